@@ -1,0 +1,47 @@
+// Clump templates: the shape of a clump, stored once and shared by every clump of that shape.
+// A template lives in its principal frame (centroid at the origin, principal axes along x, y, z),
+// so a clump's orientation quaternion maps the template directly to the world and its inertia
+// tensor in the body frame is diagonal.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "dem/mass_properties.h"
+#include "dem/types.h"
+
+namespace trackbed::dem {
+
+struct ClumpTemplate {
+  std::string name;
+  // In the principal frame.
+  std::vector<SphereShape> spheres;
+  // Of the union of the spheres.
+  double volume;
+  // Per unit density, ascending, about x, y and z of the principal frame.
+  Vec3 principal_moments;
+  // max |centre| + radius: the smallest sphere about the centroid that encloses the clump.
+  double bounding_radius;
+
+  // Radius of the sphere of the same volume, (3 V / (4 pi))^(1/3).
+  double equivalent_radius() const;
+};
+
+// Computes the mass properties of the union of `spheres_in_any_frame` (to `relative_tolerance`,
+// see sphere_union_mass_properties) and moves the spheres to the principal frame. Throws
+// InputError naming the template for invalid spheres or tolerance.
+ClumpTemplate make_clump_template(std::string name,
+                                  const std::vector<SphereShape>& spheres_in_any_frame,
+                                  double relative_tolerance = 1e-4);
+
+// The same shape scaled geometrically by `factor` about its centroid: lengths * f, volume * f^3,
+// moments * f^5. Throws InputError unless `factor` is finite and > 0.
+ClumpTemplate scaled(const ClumpTemplate& clump, double factor);
+
+// Reads the spheres of a template from a CSV file and makes the template. The header line names
+// the columns x, y, z and radius in any order (extra columns are ignored); each further line is
+// one sphere in metres; '#' comment lines and blank lines are skipped. Bad input throws
+// InputError with the file and line (docs/clumps.md).
+ClumpTemplate read_clump_template_csv(const std::string& path, const std::string& name);
+
+}  // namespace trackbed::dem
