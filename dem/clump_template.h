@@ -22,6 +22,11 @@ struct ClumpTemplate {
   Vec3 principal_moments;
   // max |centre| + radius: the smallest sphere about the centroid that encloses the clump.
   double bounding_radius;
+  // Where the principal frame sits in the frame the spheres were given in (the template file's
+  // frame): input = input_centroid + input_axes * principal. Particle files place clumps by
+  // that frame.
+  Vec3 input_centroid = Vec3::Zero();
+  Mat3 input_axes = Mat3::Identity();
 
   // Radius of the sphere of the same volume, (3 V / (4 pi))^(1/3).
   double equivalent_radius() const;
@@ -34,8 +39,8 @@ ClumpTemplate make_clump_template(std::string name,
                                   const std::vector<SphereShape>& spheres_in_any_frame,
                                   double relative_tolerance = 1e-4);
 
-// The same shape scaled geometrically by `factor` about its centroid: lengths * f, volume * f^3,
-// moments * f^5. Throws InputError unless `factor` is finite and > 0.
+// The same shape scaled geometrically by `factor` about the origin of its input frame: lengths * f,
+// volume * f^3, moments * f^5. Throws InputError unless `factor` is finite and > 0.
 ClumpTemplate scaled(const ClumpTemplate& clump, double factor);
 
 // Reads the spheres of a template from a CSV file and makes the template. The header line names

@@ -1,0 +1,411 @@
+// The only translation unit of the driver that includes deal.II: declares every case-file
+// parameter (with units, defaults and valid ranges) and reads them into CaseParameters.
+#include "cases/case_parameters.h"
+
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/parameter_handler.h>
+
+#include <filesystem>
+#include <sstream>
+
+#include "dem/input_error.h"
+
+namespace trackbed::cases {
+
+using dealii::ParameterHandler;
+using dealii::Patterns::Anything;
+using dealii::Patterns::Bool;
+using dealii::Patterns::Double;
+using dealii::Patterns::FileName;
+using dealii::Patterns::Integer;
+using dealii::Patterns::List;
+using dealii::Patterns::Selection;
+
+namespace {
+
+constexpr int kMaxMaterials = 8, kMaxPairs = 16, kMaxPlanes = 16, kMaxMeshes = 8;
+const char* const kDofNames[6] = {"x", "y", "z", "rotation x", "rotation y", "rotation z"};
+
+const Double kStiffness(0, 1e15), kFriction(0, 100), kRatio(0, 1);
+
+void declare_vector(ParameterHandler& prm, const std::string& name, const std::string& def,
+                    const std::string& doc) {
+  prm.declare_entry(name, def, List(Double(), 3, 3), doc);
+}
+
+void declare(ParameterHandler& prm) {
+  prm.declare_entry("mode", "dem", Selection("dem|coupled"),
+                    "dem: standalone DEM with rigid walls; coupled: with the FE tier");
+  prm.enter_subsection("simulation");
+  prm.declare_entry("time step", "0", Double(0, 1),
+                    "Time step in s; 0 = the critical timestep times 'critical timestep fraction'");
+  prm.declare_entry("critical timestep fraction", "0.2", Double(1e-6, 1),
+                    "Fraction of the critical timestep used when 'time step' is 0");
+  prm.declare_entry("allow timestep above critical", "false", Bool(),
+                    "Run even if the time step exceeds the critical one (expert use)");
+  prm.declare_entry("end time", "0.5", Double(0), "Simulated time to run, s");
+  prm.declare_entry("number of steps", "0", Integer(0), "Steps to run; > 0 overrides 'end time'");
+  prm.declare_entry("untimed warm-up steps", "0", Integer(0),
+                    "Steps excluded from the loop timing reported in summary.json (benchmarks)");
+  prm.declare_entry("threads", "0", Integer(0, 1024), "OpenMP threads; 0 = OMP_NUM_THREADS");
+  prm.declare_entry("verlet skin", "0.004", Double(0, 10), "Verlet skin of the neighbour list, m");
+  prm.declare_entry("track energy", "true", Bool(),
+                    "Tally dissipation and work every step for the energy balance");
+  prm.declare_entry("seed", "1", Integer(0), "Seed of the random generators");
+  prm.leave_subsection();
+
+  prm.enter_subsection("physics");
+  declare_vector(prm, "gravity", "0, 0, -9.81", "Gravitational acceleration, m/s^2");
+  prm.leave_subsection();
+
+  prm.enter_subsection("materials");
+  prm.declare_entry("number of materials", "1", Integer(1, kMaxMaterials), "Materials defined");
+  for (int i = 0; i < kMaxMaterials; ++i) {
+    prm.enter_subsection("material " + std::to_string(i));
+    prm.declare_entry("name", i == 0 ? "ballast" : "material" + std::to_string(i), Anything(),
+                      "Name used by particles, walls and pairs");
+    prm.declare_entry("density", "2800", Double(1e-9), "kg/m^3");
+    prm.declare_entry("normal stiffness", "2e7", Double(1e-9, 1e15),
+                      "Entity normal stiffness, N/m (pairs combine in series unless a contact "
+                      "pair gives its own value)");
+    prm.declare_entry("shear stiffness", "2e7", kStiffness, "Entity shear stiffness, N/m");
+    prm.declare_entry("friction", "0.5", kFriction, "Coulomb friction coefficient");
+    prm.declare_entry("rolling friction", "0", kFriction,
+                      "Rolling resistance coefficient mu_r (0: none)");
+    prm.declare_entry("normal damping ratio", "0", kRatio, "Normal dashpot, fraction of critical");
+    prm.declare_entry("shear damping ratio", "0", kRatio, "Shear dashpot, fraction of critical");
+    prm.declare_entry("normal damping rate", "0", Double(0, 1e9),
+                      "Normal dashpot as gamma_n in 1/s: F = gamma_n m_eff v_n (LAMMPS style)");
+    prm.declare_entry("local damping", "0", Double(0, 0.999), "Local damping coefficient alpha");
+    prm.leave_subsection();
+  }
+  prm.leave_subsection();
+
+  prm.enter_subsection("contact pairs");
+  prm.declare_entry("number of pairs", "0", Integer(0, kMaxPairs),
+                    "Pairs of materials with their own contact properties");
+  for (int i = 0; i < kMaxPairs; ++i) {
+    prm.enter_subsection("pair " + std::to_string(i));
+    prm.declare_entry("materials", "", Anything(), "Two material names, e.g. 'ballast, sleeper'");
+    prm.declare_entry("normal stiffness", "2e7", Double(1e-9, 1e15), "N/m");
+    prm.declare_entry("shear stiffness", "2e7", kStiffness, "N/m");
+    prm.declare_entry("friction", "0.5", kFriction, "-");
+    prm.declare_entry("rolling friction", "0", kFriction, "-");
+    prm.declare_entry("normal damping ratio", "0", kRatio, "-");
+    prm.declare_entry("shear damping ratio", "0", kRatio, "-");
+    prm.declare_entry("normal damping rate", "0", Double(0, 1e9), "1/s");
+    prm.leave_subsection();
+  }
+  prm.leave_subsection();
+
+  prm.enter_subsection("plane walls");
+  prm.declare_entry("number of walls", "0", Integer(0, kMaxPlanes), "Infinite plane walls");
+  for (int i = 0; i < kMaxPlanes; ++i) {
+    prm.enter_subsection("wall " + std::to_string(i));
+    prm.declare_entry("name", "wall" + std::to_string(i), Anything(), "Name in outputs");
+    declare_vector(prm, "point", "0, 0, 0", "A point of the plane, m");
+    declare_vector(prm, "normal", "0, 0, 1", "Normal pointing into the particles");
+    declare_vector(prm, "velocity", "0, 0, 0", "Translation velocity, m/s");
+    prm.declare_entry("material", "", Anything(), "Material name (empty: the first material)");
+    prm.leave_subsection();
+  }
+  prm.leave_subsection();
+
+  prm.enter_subsection("meshes");
+  prm.declare_entry("number of meshes", "0", Integer(0, kMaxMeshes), "Triangle-mesh bodies");
+  for (int i = 0; i < kMaxMeshes; ++i) {
+    prm.enter_subsection("mesh " + std::to_string(i));
+    prm.declare_entry("name", "mesh" + std::to_string(i), Anything(), "Name in outputs");
+    prm.declare_entry("file", "", Anything(),
+                      "STL file (ASCII or binary; each ASCII solid is a named part); empty: box");
+    prm.declare_entry("box", "0, 0, 0, 1, 1, 1", List(Double(), 6, 6),
+                      "Lower and upper corner of a box mesh when no file is given, m");
+    prm.declare_entry("scale", "1", Double(1e-12), "Scale applied to the STL coordinates");
+    declare_vector(prm, "translation", "0, 0, 0", "Translation applied after scaling, m");
+    prm.declare_entry("material", "", Anything(), "Material name (empty: the first material)");
+    prm.declare_entry("density", "0", Double(0),
+                      "kg/m^3; > 0: mass, centre and inertia from the closed mesh");
+    prm.declare_entry("mass", "0", Double(0), "kg; > 0 overrides the mass from the density");
+    prm.declare_entry("weight", "false", Bool(), "Gravity acts on its free and force DOFs");
+    for (const char* d : kDofNames)
+      prm.declare_entry(std::string("dof ") + d, "fixed", Anything(),
+                        "fixed | free | velocity V | force F | servo F [gain G] [max V] "
+                        "[relaxation R] (SI; gain 0 or absent: automatic, PFC style)");
+    prm.leave_subsection();
+  }
+  prm.leave_subsection();
+
+  prm.enter_subsection("particles");
+  prm.declare_entry("file", "", Anything(), "Particle CSV (docs/formats.md); empty: generator");
+  prm.declare_entry("templates", "", Anything(),
+                    "Clump templates as 'name:file.csv, name2:file2.csv'");
+  prm.enter_subsection("generator");
+  prm.declare_entry("number", "0", Integer(0), "Bodies placed by random sequential addition");
+  prm.declare_entry("region", "0, 0, 0, 1, 1, 1", List(Double(), 6, 6),
+                    "Lower and upper corner of the box they are placed in, m");
+  prm.declare_entry("minimum radius", "0.0112", Double(1e-9), "m (uniform by number)");
+  prm.declare_entry("maximum radius", "0.0315", Double(1e-9), "m");
+  prm.declare_entry("clump fraction", "0", Double(0, 1), "Share of bodies that are clumps");
+  prm.declare_entry("clump template", "", Anything(), "Template name for the clumps");
+  prm.declare_entry("material", "", Anything(), "Material name (empty: the first material)");
+  prm.leave_subsection();
+  prm.leave_subsection();
+
+  prm.enter_subsection("output");
+  prm.declare_entry("folder", "results/default", Anything(),
+                    "Results folder (relative to the working directory)");
+  prm.declare_entry("history interval", "1e-3", Double(0), "s between CSV rows; 0 = none");
+  prm.declare_entry("vtu interval", "0", Double(0), "s between ParaView frames; 0 = last only");
+  prm.declare_entry("snapshot interval", "0", Double(0), "s between HDF5 snapshots; 0 = last");
+  prm.declare_entry("progress interval", "2", Double(0), "Wall seconds between progress lines");
+  prm.declare_entry("tracked bodies", "", List(Integer(0)),
+                    "Body ids (rows of the particle file) whose history is written");
+  prm.declare_entry("plot", "true", Bool(), "Write a PNG plot of the histories (matplotlib)");
+  prm.leave_subsection();
+}
+
+dem::Vec3 vector_of(const ParameterHandler& prm, const std::string& name) {
+  const auto v =
+      dealii::Utilities::string_to_double(dealii::Utilities::split_string_list(prm.get(name)));
+  return dem::Vec3(v[0], v[1], v[2]);
+}
+
+std::array<double, 6> six_of(const ParameterHandler& prm, const std::string& name) {
+  const auto v =
+      dealii::Utilities::string_to_double(dealii::Utilities::split_string_list(prm.get(name)));
+  return {v[0], v[1], v[2], v[3], v[4], v[5]};
+}
+
+// "servo -3728 gain 1e-6 max 0.01" and friends.
+dem::DofControl parse_dof(const std::string& text, const std::string& where) {
+  std::istringstream in(text);
+  std::string mode;
+  in >> mode;
+  dem::DofControl c;
+  const std::string valid =
+      "; valid: fixed | free | velocity V | force F | servo F [gain G] [max V] [relaxation R]";
+  auto number = [&](const char* what) {
+    double v;
+    if (!(in >> v))
+      throw dem::InputError(where + " = '" + text + "': " + what + " missing" + valid);
+    return v;
+  };
+  if (mode == "fixed")
+    c.mode = dem::DofMode::fixed;
+  else if (mode == "free")
+    c.mode = dem::DofMode::free;
+  else if (mode == "velocity")
+    c.mode = dem::DofMode::velocity, c.value = number("velocity");
+  else if (mode == "force")
+    c.mode = dem::DofMode::force, c.value = number("force");
+  else if (mode == "servo") {
+    c.mode = dem::DofMode::servo;
+    c.value = number("load");
+    std::string word;
+    while (in >> word) {
+      if (word == "gain")
+        c.gain = number("gain");
+      else if (word == "max")
+        c.max_speed = number("max speed");
+      else if (word == "relaxation")
+        c.relaxation = number("relaxation");
+      else
+        throw dem::InputError(where + " = '" + text + "': unknown word '" + word + "'" + valid);
+    }
+    if (c.gain < 0 || !(c.relaxation > 0 && c.relaxation < 1) ||
+        (c.gain == 0 && !(c.max_speed > 0)))
+      throw dem::InputError(where + " = '" + text +
+                            "': a servo needs gain G >= 0, relaxation in (0, 1), and max V > 0 "
+                            "when the gain is automatic" +
+                            valid);
+  } else {
+    throw dem::InputError(where + " = '" + text + "': unknown mode '" + mode + "'" + valid);
+  }
+  std::string rest;
+  if (mode != "servo" && in >> rest)
+    throw dem::InputError(where + " = '" + text + "': unexpected '" + rest + "'" + valid);
+  return c;
+}
+
+// deal.II's exception text is several lines; users get the "additional information" part as
+// one line.
+std::string one_line(const std::exception& e) {
+  std::string text;
+  if (const auto* d = dynamic_cast<const dealii::ExceptionBase*>(&e)) {
+    std::ostringstream s;
+    d->print_info(s);
+    text = s.str();
+  } else {
+    text = e.what();
+  }
+  std::string out;
+  for (char c : text) {
+    if (c == '\n' || c == '\r' || c == '\t') c = ' ';
+    if (c == ' ' && (out.empty() || out.back() == ' ')) continue;
+    out += c;
+  }
+  while (!out.empty() && out.back() == ' ') out.pop_back();
+  return out;
+}
+
+}  // namespace
+
+CaseParameters read_case_file(const std::string& path) {
+  namespace fs = std::filesystem;
+  if (!fs::exists(path))
+    throw dem::InputError(path +
+                          ": case file not found; valid: a .prm file (see 'trackbed "
+                          "--print-parameters')");
+  ParameterHandler prm;
+  declare(prm);
+  try {
+    prm.parse_input(path);
+  } catch (const std::exception& e) {
+    throw dem::InputError(path + ": " + one_line(e));
+  }
+  const fs::path base = fs::absolute(path).parent_path();
+  auto resolve = [&](const std::string& f) {
+    return f.empty() || fs::path(f).is_absolute() ? f : (base / f).lexically_normal().string();
+  };
+
+  CaseParameters c;
+  c.file = path;
+  c.mode = prm.get("mode");
+  prm.enter_subsection("simulation");
+  c.time_step = prm.get_double("time step");
+  c.critical_fraction = prm.get_double("critical timestep fraction");
+  c.allow_supercritical = prm.get_bool("allow timestep above critical");
+  c.end_time = prm.get_double("end time");
+  c.number_of_steps = prm.get_integer("number of steps");
+  c.warmup_steps = prm.get_integer("untimed warm-up steps");
+  c.threads = prm.get_integer("threads");
+  c.skin = prm.get_double("verlet skin");
+  c.track_energy = prm.get_bool("track energy");
+  c.seed = prm.get_integer("seed");
+  prm.leave_subsection();
+  prm.enter_subsection("physics");
+  c.gravity = vector_of(prm, "gravity");
+  prm.leave_subsection();
+
+  prm.enter_subsection("materials");
+  const int nmat = prm.get_integer("number of materials");
+  for (int i = 0; i < nmat; ++i) {
+    prm.enter_subsection("material " + std::to_string(i));
+    dem::Material m;
+    m.name = prm.get("name");
+    m.density = prm.get_double("density");
+    m.normal_stiffness = prm.get_double("normal stiffness");
+    m.shear_stiffness = prm.get_double("shear stiffness");
+    m.friction = prm.get_double("friction");
+    m.rolling_friction = prm.get_double("rolling friction");
+    m.normal_damping_ratio = prm.get_double("normal damping ratio");
+    m.shear_damping_ratio = prm.get_double("shear damping ratio");
+    m.normal_damping_rate = prm.get_double("normal damping rate");
+    m.local_damping = prm.get_double("local damping");
+    c.materials.push_back(m);
+    prm.leave_subsection();
+  }
+  prm.leave_subsection();
+
+  prm.enter_subsection("contact pairs");
+  const int npairs = prm.get_integer("number of pairs");
+  for (int i = 0; i < npairs; ++i) {
+    const std::string where = "contact pairs/pair " + std::to_string(i);
+    prm.enter_subsection("pair " + std::to_string(i));
+    const auto names = dealii::Utilities::split_string_list(prm.get("materials"));
+    if (names.size() != 2)
+      throw dem::InputError(path + ": " + where + "/materials = '" + prm.get("materials") +
+                            "'; valid: two material names separated by a comma");
+    PairParameters pp;
+    pp.material_a = names[0];
+    pp.material_b = names[1];
+    pp.properties.kn = prm.get_double("normal stiffness");
+    pp.properties.ks = prm.get_double("shear stiffness");
+    pp.properties.mu = prm.get_double("friction");
+    pp.properties.mu_roll = prm.get_double("rolling friction");
+    pp.properties.normal_damping_ratio = prm.get_double("normal damping ratio");
+    pp.properties.shear_damping_ratio = prm.get_double("shear damping ratio");
+    pp.properties.normal_damping_rate = prm.get_double("normal damping rate");
+    c.pairs.push_back(pp);
+    prm.leave_subsection();
+  }
+  prm.leave_subsection();
+
+  prm.enter_subsection("plane walls");
+  const int nplanes = prm.get_integer("number of walls");
+  for (int i = 0; i < nplanes; ++i) {
+    prm.enter_subsection("wall " + std::to_string(i));
+    c.planes.push_back({prm.get("name"), prm.get("material"), vector_of(prm, "point"),
+                        vector_of(prm, "normal"), vector_of(prm, "velocity")});
+    prm.leave_subsection();
+  }
+  prm.leave_subsection();
+
+  prm.enter_subsection("meshes");
+  const int nmeshes = prm.get_integer("number of meshes");
+  for (int i = 0; i < nmeshes; ++i) {
+    const std::string where = path + ": meshes/mesh " + std::to_string(i) + "/";
+    prm.enter_subsection("mesh " + std::to_string(i));
+    MeshParameters m;
+    m.name = prm.get("name");
+    m.file = resolve(prm.get("file"));
+    m.box = six_of(prm, "box");
+    m.scale = prm.get_double("scale");
+    m.translation = vector_of(prm, "translation");
+    m.material = prm.get("material");
+    m.density = prm.get_double("density");
+    m.mass = prm.get_double("mass");
+    m.weight = prm.get_bool("weight");
+    for (int d = 0; d < 6; ++d) {
+      const std::string key = std::string("dof ") + kDofNames[d];
+      m.dof[d] = parse_dof(prm.get(key), where + key);
+    }
+    c.meshes.push_back(m);
+    prm.leave_subsection();
+  }
+  prm.leave_subsection();
+
+  prm.enter_subsection("particles");
+  c.particle_file = resolve(prm.get("file"));
+  for (const auto& item : dealii::Utilities::split_string_list(prm.get("templates"))) {
+    const auto colon = item.find(':');
+    if (colon == std::string::npos || colon == 0 || colon + 1 == item.size())
+      throw dem::InputError(path + ": particles/templates entry '" + item +
+                            "'; valid: 'name:file.csv' items separated by commas");
+    c.templates.emplace_back(item.substr(0, colon), resolve(item.substr(colon + 1)));
+  }
+  prm.enter_subsection("generator");
+  c.generator.count = prm.get_integer("number");
+  c.generator.region = six_of(prm, "region");
+  c.generator.radius_min = prm.get_double("minimum radius");
+  c.generator.radius_max = prm.get_double("maximum radius");
+  c.generator.clump_fraction = prm.get_double("clump fraction");
+  c.generator.clump_template = prm.get("clump template");
+  c.generator.material = prm.get("material");
+  prm.leave_subsection();
+  prm.leave_subsection();
+  if (c.particle_file.empty() && c.generator.count == 0)
+    throw dem::InputError(path +
+                          ": particles: neither 'file' nor 'generator/number' is given; "
+                          "valid: a particle CSV file or a generator with number > 0");
+
+  prm.enter_subsection("output");
+  c.output_folder = prm.get("folder");
+  c.history_interval = prm.get_double("history interval");
+  c.vtu_interval = prm.get_double("vtu interval");
+  c.snapshot_interval = prm.get_double("snapshot interval");
+  c.progress_interval = prm.get_double("progress interval");
+  for (const auto& s : dealii::Utilities::split_string_list(prm.get("tracked bodies")))
+    c.tracked_bodies.push_back(std::stol(s));
+  c.plot = prm.get_bool("plot");
+  prm.leave_subsection();
+  return c;
+}
+
+void print_parameters(std::ostream& out) {
+  ParameterHandler prm;
+  declare(prm);
+  prm.print_parameters(out, ParameterHandler::PRM);
+}
+
+}  // namespace trackbed::cases

@@ -1,0 +1,404 @@
+#include "cases/dem_run.h"
+
+#include <omp.h>
+
+#include <atomic>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include "dem/atomic_file.h"
+#include "dem/clump_template.h"
+#include "dem/input_error.h"
+#include "dem/particle_file.h"
+#include "dem/random_packing.h"
+#include "dem/snapshot.h"
+#include "dem/triangle_mesh.h"
+
+namespace trackbed::cases {
+
+namespace fs = std::filesystem;
+using dem::Vec3;
+
+namespace {
+
+std::atomic<int> g_signal{0};
+extern "C" void on_signal(int s) {
+  g_signal = s;
+}
+
+int material_index(const dem::MaterialTable& table, const std::string& name,
+                   const std::string& where) {
+  if (name.empty()) return 0;
+  try {
+    return table.index_of(name);
+  } catch (const dem::InputError& e) {
+    throw dem::InputError(where + ": " + e.what());
+  }
+}
+
+std::string hms(double seconds) {
+  if (!std::isfinite(seconds) || seconds < 0) return "--:--:--";
+  const long s = std::lround(seconds);
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", s / 3600, (s / 60) % 60, s % 60);
+  return buf;
+}
+
+}  // namespace
+
+// The time-series files, written under temporary names and renamed when the run ends.
+struct DemRun::Series {
+  std::unique_ptr<dem::AtomicFile> walls, energy, bodies;
+};
+
+DemRun::DemRun(CaseParameters parameters) : prm_(std::move(parameters)) {}
+DemRun::~DemRun() = default;
+
+void DemRun::build_model() {
+  dem::MaterialTable materials;
+  for (const auto& m : prm_.materials) materials.add(m);
+  for (const auto& p : prm_.pairs) {
+    const std::string where = prm_.file + ": contact pairs";
+    materials.set_pair(material_index(materials, p.material_a, where),
+                       material_index(materials, p.material_b, where), p.properties);
+  }
+
+  std::map<std::string, dem::ClumpTemplate> templates;
+  for (const auto& [name, file] : prm_.templates)
+    templates.emplace(name, dem::read_clump_template_csv(file, name));
+
+  dem::Particles particles;
+  if (!prm_.particle_file.empty())
+    dem::read_particle_file(prm_.particle_file, materials, templates, particles);
+  if (prm_.generator.count > 0) {
+    const auto& g = prm_.generator;
+    dem::RandomPackingSpec spec;
+    spec.lower = Vec3(g.region[0], g.region[1], g.region[2]);
+    spec.upper = Vec3(g.region[3], g.region[4], g.region[5]);
+    spec.count = g.count;
+    spec.radius_min = g.radius_min;
+    spec.radius_max = g.radius_max;
+    spec.clump_fraction = g.clump_fraction;
+    if (!g.clump_template.empty()) {
+      const auto it = templates.find(g.clump_template);
+      if (it == templates.end())
+        throw dem::InputError(prm_.file + ": particles/generator/clump template '" +
+                              g.clump_template + "' is not among particles/templates");
+      spec.clump_template = &it->second;
+    }
+    spec.material = material_index(materials, g.material, prm_.file + ": particles/generator");
+    spec.seed = prm_.seed;
+    dem::add_random_packing(spec, materials, particles);
+  }
+
+  dem::SimulationSettings settings;
+  settings.time_step = prm_.time_step;
+  settings.critical_fraction = prm_.critical_fraction;
+  settings.allow_supercritical_step = prm_.allow_supercritical;
+  settings.gravity = prm_.gravity;
+  settings.skin = prm_.skin;
+  settings.track_energy = prm_.track_energy;
+  sim_ = std::make_unique<dem::Simulation>(std::move(materials), std::move(particles), settings);
+
+  for (const auto& w : prm_.planes) {
+    dem::PlaneWall wall;
+    wall.name = w.name;
+    wall.point = w.point;
+    wall.normal = w.normal;
+    wall.velocity = w.velocity;
+    wall.material =
+        material_index(sim_->materials(), w.material, prm_.file + ": plane walls/" + w.name);
+    sim_->add_plane(wall);
+  }
+  for (const auto& m : prm_.meshes) {
+    const std::string where = prm_.file + ": meshes/" + m.name;
+    dem::TriangleMesh mesh =
+        m.file.empty() ? dem::make_box_mesh(Vec3(m.box[0], m.box[1], m.box[2]),
+                                            Vec3(m.box[3], m.box[4], m.box[5]), m.named_box_parts)
+                       : dem::read_stl(m.file);
+    for (auto& v : mesh.vertices) v = v * m.scale + m.translation;
+    const int mat = material_index(sim_->materials(), m.material, where);
+    const double density = m.density > 0 ? m.density : (m.mass > 0 ? 1.0 : 0.0);
+    dem::MeshBody body = dem::MeshBody::from_world_mesh(m.name, mesh, mat, density, Vec3::Zero());
+    if (m.mass > 0) {
+      // Keep the mesh's inertia distribution, scaled to the given mass.
+      body.inertia *= m.mass / body.mass;
+      body.mass = m.mass;
+    }
+    body.weight = m.weight;
+    body.dof = m.dof;
+    for (int d = 0; d < 6; ++d) {
+      const auto mode = m.dof[d].mode;
+      if ((mode == dem::DofMode::free || mode == dem::DofMode::force) && !(body.mass > 0))
+        throw dem::InputError(where +
+                              ": a free or force-loaded degree of freedom needs a mass; "
+                              "valid: set 'density' (closed mesh) or 'mass' > 0");
+    }
+    sim_->add_mesh_body(std::move(body));
+  }
+}
+
+void DemRun::open_outputs() {
+  out_ = prm_.output_folder;
+  fs::create_directories(fs::path(out_) / "history");
+  fs::create_directories(fs::path(out_) / "vtu");
+  fs::create_directories(fs::path(out_) / "snapshots");
+  series_ = std::make_unique<Series>();
+  const std::string h = out_ + "/history/";
+  series_->walls = std::make_unique<dem::AtomicFile>(h + "walls.csv");
+  series_->energy = std::make_unique<dem::AtomicFile>(h + "energy.csv");
+  series_->bodies = std::make_unique<dem::AtomicFile>(h + "bodies.csv");
+
+  auto& w = series_->walls->stream();
+  w << "time";
+  for (const auto& p : sim_->planes())
+    for (const char* c : {"fx", "fy", "fz"}) w << "," << p.name << "_" << c;
+  for (const auto& m : sim_->meshes()) {
+    for (const char* c : {"x", "y", "z", "fx", "fy", "fz", "mx", "my", "mz"})
+      w << "," << m.name << "_" << c;
+    for (const auto& part : m.local.part_names)
+      for (const char* c : {"fx", "fy", "fz"}) w << "," << m.name << "." << part << "_" << c;
+  }
+  w << "\n";
+  series_->energy->stream() << "time,kinetic,strain,friction,rolling,dashpot,local_damping,"
+                               "gravity_work,wall_work,balance_error\n";
+  series_->bodies->stream() << "time,id,x,y,z,vx,vy,vz,wx,wy,wz\n";
+  for (auto* f : {series_->walls.get(), series_->energy.get(), series_->bodies.get()})
+    f->stream() << std::setprecision(12);
+
+  pvd_particles_ = std::make_unique<dem::PvdCollection>(out_ + "/particles.pvd");
+  pvd_contacts_ = std::make_unique<dem::PvdCollection>(out_ + "/contacts.pvd");
+  pvd_walls_ = std::make_unique<dem::PvdCollection>(out_ + "/walls.pvd");
+}
+
+void DemRun::write_history() {
+  const double t = sim_->time();
+  auto& w = series_->walls->stream();
+  w << t;
+  for (const auto& p : sim_->planes())
+    w << "," << p.force.x() << "," << p.force.y() << "," << p.force.z();
+  for (const auto& m : sim_->meshes()) {
+    for (const Vec3* v : {&m.x, &m.contact_force, &m.contact_moment})
+      w << "," << v->x() << "," << v->y() << "," << v->z();
+    for (const auto& f : m.part_force) w << "," << f.x() << "," << f.y() << "," << f.z();
+  }
+  w << "\n";
+
+  if (prm_.track_energy) {
+    const dem::EnergyBudget e = sim_->energy();
+    // Relative to the largest energy term seen, so a resting model does not divide by ~0.
+    const double scale =
+        std::max({std::abs(e.kinetic) + e.strain, e.dissipated(), std::abs(e.gravity_work),
+                  std::abs(e.wall_work), initial_energy_.kinetic + initial_energy_.strain, 1e-300});
+    series_->energy->stream() << t << "," << e.kinetic << "," << e.strain << "," << e.friction
+                              << "," << e.rolling << "," << e.dashpot << "," << e.local_damping
+                              << "," << e.gravity_work << "," << e.wall_work << ","
+                              << (e.total() - initial_energy_.total()) / scale << "\n";
+  }
+  const auto& p = sim_->particles();
+  for (long id : prm_.tracked_bodies) {
+    if (id >= p.num_bodies()) continue;
+    const int b = static_cast<int>(id);
+    series_->bodies->stream() << t << "," << p.id[b] << "," << p.x[b].x() << "," << p.x[b].y()
+                              << "," << p.x[b].z() << "," << p.v[b].x() << "," << p.v[b].y() << ","
+                              << p.v[b].z() << "," << p.w[b].x() << "," << p.w[b].y() << ","
+                              << p.w[b].z() << "\n";
+  }
+}
+
+void DemRun::write_frame() {
+  char name[64];
+  std::snprintf(name, sizeof name, "%06d.vtu", frame_++);
+  const std::string n(name);
+  dem::particles_grid(*sim_, &initial_positions_).write(out_ + "/vtu/particles-" + n);
+  dem::contacts_grid(*sim_).write(out_ + "/vtu/contacts-" + n);
+  dem::walls_grid(*sim_).write(out_ + "/vtu/walls-" + n);
+  pvd_particles_->add(sim_->time(), "vtu/particles-" + n);
+  pvd_contacts_->add(sim_->time(), "vtu/contacts-" + n);
+  pvd_walls_->add(sim_->time(), "vtu/walls-" + n);
+}
+
+void DemRun::write_snapshot() {
+  char name[64];
+  std::snprintf(name, sizeof name, "/snapshots/state-%09ld.h5", sim_->step_count());
+  dem::write_snapshot(out_ + name, *sim_);
+}
+
+void DemRun::report_progress(bool last) {
+  const auto now = Clock::now();
+  const double wall = std::chrono::duration<double>(now - start_).count();
+  const double loop = std::chrono::duration<double>(now - loop_start_).count();
+  const long done = sim_->step_count() - loop_start_step_;
+  const double rate = loop > 0 ? done / loop : 0;
+  const double eta = rate > 0 ? (total_steps_ - sim_->step_count()) / rate : NAN;
+  const double t_end = total_steps_ * sim_->time_step();
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(4) << "t = " << sim_->time() << " s of " << t_end << " s ("
+    << std::setprecision(1) << 100.0 * sim_->step_count() / std::max(total_steps_, 1L)
+    << " %) | step " << sim_->step_count() << " | " << std::setprecision(0) << rate << " steps/s | "
+    << std::scientific << std::setprecision(2) << rate * sim_->particles().num_elements()
+    << " sphere-steps/s | contacts " << sim_->num_contacts() << " | KE "
+    << sim_->particles().kinetic_energy() << " J | "
+    << (last ? "wall " + hms(wall) : "ETA " + hms(eta));
+  std::cout << s.str() << std::endl;
+  last_progress_ = now;
+}
+
+int DemRun::run() {
+  start_ = Clock::now();
+  if (prm_.threads > 0) omp_set_num_threads(prm_.threads);
+  build_model();
+  sim_->setup();
+  initial_energy_ = sim_->energy();
+  initial_positions_ = sim_->particles().pos;
+  total_steps_ = prm_.number_of_steps > 0
+                     ? prm_.number_of_steps
+                     : static_cast<long>(std::ceil(prm_.end_time / sim_->time_step() - 1e-9));
+  open_outputs();
+
+  const auto& p = sim_->particles();
+  std::cout << "trackbed: " << p.num_bodies() << " bodies (" << p.num_clumps() << " clumps), "
+            << p.num_elements() << " sphere elements, " << sim_->planes().size() << " plane walls, "
+            << sim_->meshes().size() << " meshes; time step " << sim_->time_step()
+            << " s (critical " << sim_->critical_timestep() << " s), " << total_steps_ << " steps, "
+            << omp_get_max_threads() << " threads" << std::endl;
+
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  write_history();
+  write_frame();
+  const double dt = sim_->time_step();
+  next_history_ = prm_.history_interval;
+  next_frame_ = prm_.vtu_interval > 0 ? prm_.vtu_interval : INFINITY;
+  next_snapshot_ = prm_.snapshot_interval > 0 ? prm_.snapshot_interval : INFINITY;
+  loop_start_ = last_progress_ = Clock::now();
+  loop_start_step_ = 0;
+
+  while (sim_->step_count() < total_steps_ && g_signal == 0) {
+    if (sim_->step_count() == prm_.warmup_steps && prm_.warmup_steps > 0) {
+      loop_start_ = Clock::now();
+      loop_start_step_ = sim_->step_count();
+    }
+    sim_->step();
+    const double t = sim_->time() + 0.5 * dt;  // tolerant of round-off in the clock
+    if (prm_.history_interval > 0 && t >= next_history_) {
+      write_history();
+      next_history_ += prm_.history_interval;
+    }
+    if (t >= next_frame_) {
+      write_frame();
+      next_frame_ += prm_.vtu_interval;
+    }
+    if (t >= next_snapshot_) {
+      write_snapshot();
+      next_snapshot_ += prm_.snapshot_interval;
+    }
+    if (std::chrono::duration<double>(Clock::now() - last_progress_).count() >=
+        prm_.progress_interval) {
+      sim_->check_finite();
+      report_progress(false);
+    }
+  }
+  loop_seconds_ = std::chrono::duration<double>(Clock::now() - loop_start_).count();
+  sim_->check_finite();
+  const bool interrupted = g_signal != 0;
+  finish(interrupted);
+  return interrupted ? 130 : 0;
+}
+
+void DemRun::finish(bool interrupted) {
+  report_progress(true);
+  write_history();
+  write_frame();
+  write_snapshot();
+  series_->walls->commit();
+  series_->energy->commit();
+  series_->bodies->commit();
+  write_summary(interrupted);
+  if (prm_.plot && !interrupted) make_plot();
+  std::cout << "trackbed: results in " << out_ << (interrupted ? " (interrupted)" : "")
+            << std::endl;
+}
+
+void DemRun::write_summary(bool interrupted) {
+  const auto& p = sim_->particles();
+  const dem::EnergyBudget e = sim_->energy();
+  const double wall = std::chrono::duration<double>(Clock::now() - start_).count();
+  const long timed = sim_->step_count() - loop_start_step_;
+  struct Item {
+    std::string key, label, unit;
+    double value;
+  };
+  const double scale = std::max({std::abs(e.kinetic) + e.strain, e.dissipated(),
+                                 std::abs(e.gravity_work), std::abs(e.wall_work), 1e-300});
+  std::vector<Item> items = {
+      {"bodies", "bodies", "", double(p.num_bodies())},
+      {"clumps", "clumps", "", double(p.num_clumps())},
+      {"elements", "sphere elements", "", double(p.num_elements())},
+      {"contacts", "contacts (last step)", "", double(sim_->num_contacts())},
+      {"steps", "steps", "", double(sim_->step_count())},
+      {"time_step_s", "time step", "s", sim_->time_step()},
+      {"critical_time_step_s", "critical time step", "s", sim_->critical_timestep()},
+      {"simulated_time_s", "simulated time", "s", sim_->time()},
+      {"wall_time_s", "wall time", "s", wall},
+      {"timed_steps", "timed steps (after warm-up)", "", double(timed)},
+      {"loop_time_s", "loop time of the timed steps", "s", loop_seconds_},
+      {"sphere_steps_per_s", "sphere-steps per second", "",
+       loop_seconds_ > 0 ? p.num_elements() * timed / loop_seconds_ : 0.0},
+      {"threads", "threads", "", double(omp_get_max_threads())},
+      {"neighbor_builds", "neighbour list builds", "", double(sim_->num_neighbor_builds())},
+      {"kinetic_energy", "kinetic energy", "J", e.kinetic},
+      {"strain_energy", "strain energy", "J", e.strain},
+      {"dissipated_energy", "dissipated energy", "J", e.dissipated()},
+      {"energy_balance_error", "energy balance error (relative)", "",
+       prm_.track_energy ? (e.total() - initial_energy_.total()) / scale : NAN},
+      {"max_particle_contact_force_n", "max particle-particle contact force", "N",
+       sim_->max_particle_contact_force()},
+      {"max_wall_contact_force_n", "max particle-wall contact force", "N",
+       sim_->max_wall_contact_force()},
+  };
+  for (const auto& w : sim_->planes())
+    items.push_back({"wall_force_z_" + w.name, "wall " + w.name + " force z", "N", w.force.z()});
+  for (const auto& m : sim_->meshes())
+    for (int k = 0; k < 3; ++k)
+      items.push_back({"mesh_force_" + std::string(1, "xyz"[k]) + "_" + m.name,
+                       "mesh " + m.name + " force " + "xyz"[k], "N", m.contact_force[k]});
+
+  dem::AtomicFile json(out_ + "/summary.json");
+  json.stream() << std::setprecision(10) << "{\n  \"case\": \"" << prm_.file
+                << "\",\n  \"status\": \"" << (interrupted ? "interrupted" : "finished") << "\"";
+  for (const auto& i : items) {
+    json.stream() << ",\n  \"" << i.key << "\": ";
+    if (std::isfinite(i.value))
+      json.stream() << i.value;
+    else
+      json.stream() << "null";
+  }
+  json.stream() << "\n}\n";
+  json.commit();
+
+  dem::AtomicFile txt(out_ + "/summary.txt");
+  txt.stream() << "trackbed summary: " << prm_.file << (interrupted ? " (interrupted)" : "")
+               << "\n";
+  for (const auto& i : items)
+    txt.stream() << "  " << std::left << std::setw(40) << i.label << std::right << std::setw(16)
+                 << std::setprecision(6) << i.value << " " << i.unit << "\n";
+  txt.commit();
+}
+
+void DemRun::make_plot() {
+  // matplotlib draws the plot; a missing python is a warning, not a failed run.
+  const fs::path script = fs::path(TRACKBED_SOURCE_DIR) / "cases" / "plot_history.py";
+  const std::string cmd =
+      "python3 '" + script.string() + "' '" + out_ + "' > '" + out_ + "/plot.log' 2>&1";
+  if (std::system(cmd.c_str()) != 0)
+    std::cout << "trackbed: warning: the plot failed (see " << out_ << "/plot.log)" << std::endl;
+}
+
+}  // namespace trackbed::cases

@@ -1,0 +1,58 @@
+// A standalone DEM run (mode = dem): builds the model a case file describes, runs it with a
+// progress line, and writes the results folder:
+//   history/walls.csv, history/energy.csv, history/bodies.csv   time series
+//   particles.pvd, contacts.pvd, walls.pvd (+ vtu/)              ParaView
+//   snapshots/state-NNNNNN.h5                                    HDF5 model state
+//   summary.json, summary.txt, plot.png                          what a person opens first
+#pragma once
+
+#include <chrono>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cases/case_parameters.h"
+#include "dem/simulation.h"
+#include "dem/vtu_writer.h"
+
+namespace trackbed::cases {
+
+class DemRun {
+ public:
+  explicit DemRun(CaseParameters parameters);
+  ~DemRun();
+  // Returns the process exit status: 0 finished, 130 interrupted by a signal.
+  int run();
+
+ private:
+  void build_model();
+  void open_outputs();
+  void write_history();
+  void write_frame();
+  void write_snapshot();
+  void report_progress(bool last);
+  void finish(bool interrupted);
+  void write_summary(bool interrupted);
+  void make_plot();
+
+  CaseParameters prm_;
+  std::unique_ptr<dem::Simulation> sim_;
+  std::string out_;
+  long total_steps_ = 0;
+
+  struct Series;
+  std::unique_ptr<Series> series_;
+  std::unique_ptr<dem::PvdCollection> pvd_particles_, pvd_contacts_, pvd_walls_;
+  std::vector<dem::Vec3> initial_positions_;
+  int frame_ = 0;
+
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point start_, last_progress_, loop_start_;
+  long loop_start_step_ = 0;
+  double loop_seconds_ = 0;
+  double next_history_ = 0, next_frame_ = 0, next_snapshot_ = 0;
+  dem::EnergyBudget initial_energy_;
+};
+
+}  // namespace trackbed::cases

@@ -1,0 +1,101 @@
+#include "dem/particles.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace trackbed::dem {
+
+int Particles::num_clumps() const {
+  return static_cast<int>(std::count(is_clump.begin(), is_clump.end(), 1));
+}
+
+int Particles::add_body(const Vec3& centre, const Quat& orientation, double m, const Vec3& I,
+                        int mat, bool clump, std::int64_t user_id) {
+  if (first_element.empty()) first_element.push_back(0);
+  x.push_back(centre);
+  v.push_back(Vec3::Zero());
+  q.push_back(orientation.normalized());
+  w.push_back(Vec3::Zero());
+  L.push_back(Vec3::Zero());
+  f.push_back(Vec3::Zero());
+  t.push_back(Vec3::Zero());
+  mass.push_back(m);
+  inertia.push_back(I);
+  body_material.push_back(mat);
+  id.push_back(user_id);
+  is_clump.push_back(clump ? 1 : 0);
+  return num_bodies() - 1;
+}
+
+int Particles::add_ball(const Vec3& centre, double r, int mat, double density,
+                        std::int64_t user_id) {
+  const double m = density * 4.0 / 3.0 * M_PI * r * r * r;
+  const double I = 0.4 * m * r * r;
+  const int b = add_body(centre, Quat::Identity(), m, Vec3::Constant(I), mat, false, user_id);
+  pos.push_back(centre);
+  offset.push_back(Vec3::Zero());
+  radius.push_back(r);
+  body.push_back(b);
+  material.push_back(mat);
+  first_element.push_back(num_elements());
+  return b;
+}
+
+int Particles::add_clump(const ClumpTemplate& tmpl, const Vec3& centre, const Quat& orientation,
+                         int mat, double density, std::int64_t user_id) {
+  const int b = add_body(centre, orientation, density * tmpl.volume,
+                         density * tmpl.principal_moments, mat, true, user_id);
+  const Mat3 R = q[b].toRotationMatrix();
+  for (const auto& s : tmpl.spheres) {
+    pos.push_back(centre + R * s.centre);
+    offset.push_back(s.centre);
+    radius.push_back(s.radius);
+    body.push_back(b);
+    material.push_back(mat);
+  }
+  first_element.push_back(num_elements());
+  return b;
+}
+
+void Particles::update_element_positions() {
+  const int nb = num_bodies();
+#pragma omp parallel for schedule(static)
+  for (int b = 0; b < nb; ++b) {
+    const int e0 = first_element[b], e1 = first_element[b + 1];
+    if (!is_clump[b]) {
+      pos[e0] = x[b];
+      continue;
+    }
+    const Mat3 R = q[b].toRotationMatrix();
+    for (int e = e0; e < e1; ++e) pos[e] = x[b] + R * offset[e];
+  }
+}
+
+Mat3 Particles::world_inertia(int b) const {
+  const Mat3 R = q[b].toRotationMatrix();
+  return R * inertia[b].asDiagonal() * R.transpose();
+}
+
+Mat3 Particles::world_inverse_inertia(int b) const {
+  const Mat3 R = q[b].toRotationMatrix();
+  return R * inertia[b].cwiseInverse().asDiagonal() * R.transpose();
+}
+
+double Particles::kinetic_energy() const {
+  double e = 0;
+  for (int b = 0; b < num_bodies(); ++b) {
+    e += 0.5 * mass[b] * v[b].squaredNorm();
+    const Vec3 wb = q[b].conjugate() * w[b];  // body frame
+    e += 0.5 * wb.dot(inertia[b].cwiseProduct(wb));
+  }
+  return e;
+}
+
+double Particles::max_element_radius() const {
+  return radius.empty() ? 0.0 : *std::max_element(radius.begin(), radius.end());
+}
+double Particles::min_element_radius() const {
+  return radius.empty() ? 0.0 : *std::min_element(radius.begin(), radius.end());
+}
+
+}  // namespace trackbed::dem

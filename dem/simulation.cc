@@ -1,0 +1,830 @@
+#include "dem/simulation.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "dem/input_error.h"
+#include "dem/rigid_rotation.h"
+
+namespace trackbed::dem {
+
+// History of the particle-particle springs, aligned with the neighbour list.
+struct Simulation::PairHistory {
+  std::vector<Vec3> shear;
+  std::vector<Vec3> roll;  // empty unless some pair has rolling resistance
+  std::vector<double> fn;  // normal force of the last step (0: not touching)
+};
+
+// Candidates of one wall: elements within reach at the last build, with their history. For a
+// mesh, an element can touch up to kSlots features at once (a concave corner).
+struct Simulation::WallHistory {
+  static constexpr int kSlots = 4;
+  std::vector<int> element;
+  // Plane walls: one slot. Meshes: kSlots per element, plus the candidate triangles.
+  std::vector<Vec3> shear, roll, normal;
+  std::vector<double> fn;
+  std::vector<int> triangle_offsets, triangles;
+};
+
+// Per-thread force accumulators (thread 0 writes the real arrays).
+struct Simulation::ThreadScratch {
+  std::vector<Vec3> f, t;
+  std::vector<Vec3> wall_f, wall_t;               // per plane, then per mesh body
+  std::vector<Vec3> wall_k, wall_kr;              // contact stiffness along each DOF
+  std::vector<std::vector<Vec3>> part_f, part_t;  // per mesh body, per part
+  Dissipation dissipation;
+  double max_overlap_ratio = 0;
+  int worst_i = -1, worst_j = -1;  // worst_i = -2 - wall index for a wall contact
+  std::vector<MeshContactPoint> mesh_points;
+};
+
+namespace {
+
+// Velocity of the material point x of a rigid body.
+inline Vec3 point_velocity(const Vec3& v, const Vec3& w, const Vec3& lever) {
+  return v + w.cross(lever);
+}
+
+}  // namespace
+
+Simulation::Simulation(MaterialTable materials, Particles particles, SimulationSettings settings)
+    : materials_(std::move(materials)),
+      p_(std::move(particles)),
+      settings_(settings),
+      pair_history_(std::make_unique<PairHistory>()),
+      scratch_(std::make_unique<std::vector<ThreadScratch>>()) {
+  check_range("simulation: time step", settings_.time_step, 0.0, 1.0);
+  check_range("simulation: critical timestep fraction", settings_.critical_fraction, 1e-6, 1.0);
+  check_range("simulation: verlet skin", settings_.skin, 0.0, 1e3);
+}
+
+Simulation::~Simulation() = default;
+Simulation::Simulation(Simulation&&) noexcept = default;
+Simulation& Simulation::operator=(Simulation&&) noexcept = default;
+
+int Simulation::add_plane(const PlaneWall& wall) {
+  PlaneWall w = wall;
+  const double len = w.normal.norm();
+  if (!(len > 0) || !std::isfinite(len))
+    throw InputError("plane wall '" + w.name + "': normal has zero length; give a direction");
+  w.normal /= len;
+  planes_.push_back(w);
+  return static_cast<int>(planes_.size()) - 1;
+}
+
+int Simulation::add_mesh_body(MeshBody body) {
+  body.update_world_mesh();
+  body.part_force.assign(body.local.part_names.size(), Vec3::Zero());
+  body.part_moment.assign(body.local.part_names.size(), Vec3::Zero());
+  meshes_.push_back(std::move(body));
+  return static_cast<int>(meshes_.size()) - 1;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Set-up and contact detection
+
+void Simulation::setup() {
+  for (int b = 0; b < p_.num_bodies(); ++b)
+    if (p_.is_clump[b]) p_.L[b] = p_.world_inertia(b) * p_.w[b];
+  p_.update_element_positions();
+  rebuild();
+  check_initial_overlaps();
+  const double dt_crit = critical_timestep();
+  if (settings_.time_step == 0) settings_.time_step = settings_.critical_fraction * dt_crit;
+  if (settings_.time_step > dt_crit && !settings_.allow_supercritical_step) {
+    std::ostringstream s;
+    s << "simulation: time step = " << settings_.time_step << " s is above the critical timestep "
+      << dt_crit << " s of this model (PFC estimate); valid: a time step <= " << dt_crit
+      << " s, or set 'allow timestep above critical = true' to force it";
+    throw InputError(s.str());
+  }
+  ready_ = true;
+}
+
+void Simulation::rebuild() {
+  const double skin = settings_.skin;
+  // Keep the old list and history to carry the springs of surviving pairs over.
+  NeighborList old_list = std::move(list_);
+  PairHistory old = std::move(*pair_history_);
+  list_.build(p_, skin);
+  const int npairs = list_.num_pairs();
+  PairHistory& h = *pair_history_;
+  const bool rolling = materials_.any_rolling();
+  h.shear.assign(npairs, Vec3::Zero());
+  h.roll.assign(rolling ? npairs : 0, Vec3::Zero());
+  h.fn.assign(npairs, 0.0);
+  if (!old_list.offsets.empty()) {
+    const int n = p_.num_elements();
+#pragma omp parallel for schedule(static)
+    for (int i = 0; i < n; ++i) {
+      // Both lists are sorted by partner: a merge walk finds the survivors.
+      int a = old_list.offsets[i], b = list_.offsets[i];
+      const int ae = old_list.offsets[i + 1], be = list_.offsets[i + 1];
+      while (a < ae && b < be) {
+        if (old_list.partners[a] < list_.partners[b]) {
+          ++a;
+        } else if (old_list.partners[a] > list_.partners[b]) {
+          ++b;
+        } else {
+          h.shear[b] = old.shear[a];
+          if (rolling) h.roll[b] = old.roll[a];
+          h.fn[b] = old.fn[a];
+          ++a, ++b;
+        }
+      }
+    }
+  }
+
+  // Plane walls: every element closer than r + skin (or behind the plane).
+  plane_history_.resize(planes_.size() + meshes_.size());
+  for (std::size_t w = 0; w < planes_.size(); ++w) {
+    WallHistory fresh;
+    const WallHistory& prev = plane_history_[w];
+    std::size_t k = 0;
+    for (int e = 0; e < p_.num_elements(); ++e) {
+      if (planes_[w].distance(p_.pos[e]) >= p_.radius[e] + skin) continue;
+      fresh.element.push_back(e);
+      while (k < prev.element.size() && prev.element[k] < e) ++k;
+      const bool kept = k < prev.element.size() && prev.element[k] == e;
+      fresh.shear.push_back(kept ? prev.shear[k] : Vec3::Zero());
+      fresh.roll.push_back(kept ? prev.roll[k] : Vec3::Zero());
+      fresh.fn.push_back(kept ? prev.fn[k] : 0.0);
+    }
+    plane_history_[w] = std::move(fresh);
+  }
+
+  // Meshes: candidate triangles of every element within r + skin of the mesh.
+  for (std::size_t m = 0; m < meshes_.size(); ++m) {
+    const MeshBody& body = meshes_[m];
+    const WallHistory& prev = plane_history_[planes_.size() + m];
+    WallHistory fresh;
+    fresh.triangle_offsets.push_back(0);
+    TriangleGrid grid;
+    grid.build(body.world, 2 * p_.max_element_radius() + skin);
+    std::vector<int> found;
+    std::size_t k = 0;
+    constexpr int S = WallHistory::kSlots;
+    for (int e = 0; e < p_.num_elements(); ++e) {
+      grid.query(p_.pos[e], p_.radius[e] + skin, found);
+      if (found.empty()) continue;
+      fresh.element.push_back(e);
+      fresh.triangles.insert(fresh.triangles.end(), found.begin(), found.end());
+      fresh.triangle_offsets.push_back(static_cast<int>(fresh.triangles.size()));
+      while (k < prev.element.size() && prev.element[k] < e) ++k;
+      const bool kept = k < prev.element.size() && prev.element[k] == e;
+      for (int s = 0; s < S; ++s) {
+        fresh.shear.push_back(kept ? prev.shear[k * S + s] : Vec3::Zero());
+        fresh.roll.push_back(kept ? prev.roll[k * S + s] : Vec3::Zero());
+        fresh.normal.push_back(kept ? prev.normal[k * S + s] : Vec3::Zero());
+        fresh.fn.push_back(kept ? prev.fn[k * S + s] : 0.0);
+      }
+    }
+    plane_history_[planes_.size() + m] = std::move(fresh);
+  }
+
+  pos_at_build_ = p_.pos;
+  plane_point_at_build_.clear();
+  for (const auto& w : planes_) plane_point_at_build_.push_back(w.point);
+  for (const auto& m : meshes_) plane_point_at_build_.push_back(m.x);
+  mesh_q_at_build_.clear();
+  for (const auto& m : meshes_) mesh_q_at_build_.push_back(m.q);
+  ++builds_;
+}
+
+bool Simulation::needs_rebuild() const {
+  const double half = 0.5 * settings_.skin;
+  const double limit = half * half;
+  const int n = p_.num_elements();
+  int moved = 0;
+#pragma omp parallel for schedule(static) reduction(max : moved)
+  for (int e = 0; e < n; ++e)
+    if ((p_.pos[e] - pos_at_build_[e]).squaredNorm() > limit) moved = 1;
+  if (moved) return true;
+  for (std::size_t w = 0; w < planes_.size(); ++w)
+    if ((planes_[w].point - plane_point_at_build_[w]).dot(planes_[w].normal) < -half) return true;
+  for (std::size_t m = 0; m < meshes_.size(); ++m) {
+    const MeshBody& b = meshes_[m];
+    // A bound on any vertex's displacement: translation plus rotation angle times reach.
+    const double angle = b.q.angularDistance(mesh_q_at_build_[m]);
+    const double d = (b.x - plane_point_at_build_[planes_.size() + m]).norm() + angle * b.reach();
+    if (d > half) return true;
+  }
+  return false;
+}
+
+void Simulation::check_initial_overlaps() const {
+  const double tol = settings_.initial_overlap_ratio;
+  for (int i = 0; i < p_.num_elements(); ++i)
+    for (int k = list_.offsets[i]; k < list_.offsets[i + 1]; ++k) {
+      const int j = list_.partners[k];
+      const double overlap = p_.radius[i] + p_.radius[j] - (p_.pos[j] - p_.pos[i]).norm();
+      if (overlap > tol * std::min(p_.radius[i], p_.radius[j])) {
+        std::ostringstream s;
+        s << "particles " << p_.id[p_.body[i]] << " and " << p_.id[p_.body[j]] << " overlap by "
+          << overlap << " m at start (more than " << tol
+          << " of the smaller radius); valid: a packing with overlaps below that, e.g. a "
+             "settled sample";
+        throw InputError(s.str());
+      }
+    }
+  for (std::size_t w = 0; w < planes_.size(); ++w)
+    for (int e : plane_history_[w].element) {
+      const double overlap = p_.radius[e] - planes_[w].distance(p_.pos[e]);
+      if (overlap > tol * p_.radius[e]) {
+        std::ostringstream s;
+        s << "particle " << p_.id[p_.body[e]] << " overlaps wall '" << planes_[w].name << "' by "
+          << overlap << " m at start (more than " << tol
+          << " of its radius); valid: every particle on the inner side of every wall";
+        throw InputError(s.str());
+      }
+    }
+  std::vector<MeshContactPoint> points;
+  for (std::size_t m = 0; m < meshes_.size(); ++m) {
+    const WallHistory& h = plane_history_[planes_.size() + m];
+    for (std::size_t c = 0; c < h.element.size(); ++c) {
+      const int e = h.element[c];
+      sphere_mesh_contacts(meshes_[m].world, p_.pos[e], p_.radius[e],
+                           h.triangles.data() + h.triangle_offsets[c],
+                           h.triangle_offsets[c + 1] - h.triangle_offsets[c], points);
+      for (const auto& pt : points)
+        if (pt.overlap > tol * p_.radius[e]) {
+          std::ostringstream s;
+          s << "particle " << p_.id[p_.body[e]] << " overlaps mesh '" << meshes_[m].name << "' by "
+            << pt.overlap << " m at start (more than " << tol
+            << " of its radius); valid: particles clear of the mesh at start";
+          throw InputError(s.str());
+        }
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Forces
+
+template <bool Rolling, bool Energy>
+void Simulation::pair_forces() {
+  const int n = p_.num_elements();
+  const double dt = settings_.time_step;
+  const double ratio_limit = settings_.max_overlap_ratio;
+  PairHistory& h = *pair_history_;
+  const int nmat = materials_.size();
+  const ContactProperties* props = &materials_.pair(0, 0);
+
+#pragma omp parallel
+  {
+    ThreadScratch& s = (*scratch_)[omp_get_thread_num()];
+    Vec3* F = omp_get_thread_num() == 0 ? p_.f.data() : s.f.data();
+    Vec3* T = omp_get_thread_num() == 0 ? p_.t.data() : s.t.data();
+    Dissipation d;
+    Vec3 unused_roll, roll_moment = Vec3::Zero();
+#pragma omp for schedule(static)
+    for (int i = 0; i < n; ++i) {
+      const Vec3 xi = p_.pos[i];
+      const double ri = p_.radius[i];
+      const int bi = p_.body[i];
+      const int mi = p_.material[i];
+      for (int k = list_.offsets[i]; k < list_.offsets[i + 1]; ++k) {
+        const int j = list_.partners[k];
+        const Vec3 dx = p_.pos[j] - xi;
+        const double rsum = ri + p_.radius[j];
+        const double d2 = dx.squaredNorm();
+        if (d2 >= rsum * rsum) {
+          // Separated: the springs relax (PFC deletes the contact).
+          h.shear[k].setZero();
+          if constexpr (Rolling) h.roll[k].setZero();
+          h.fn[k] = 0;
+          continue;
+        }
+        const int bj = p_.body[j];
+        const double dist = std::sqrt(d2);
+        ContactKinematics kin;
+        kin.n = dx / dist;
+        kin.overlap = rsum - dist;
+        const double rj = p_.radius[j];
+        if (kin.overlap > ratio_limit * std::min(ri, rj)) {
+          const double r = kin.overlap / std::min(ri, rj);
+          if (r > s.max_overlap_ratio) s.max_overlap_ratio = r, s.worst_i = i, s.worst_j = j;
+        }
+        // Contact point in the middle of the overlap.
+        const Vec3 c = xi + kin.n * (ri - 0.5 * kin.overlap);
+        const Vec3 lever_i = c - p_.x[bi], lever_j = c - p_.x[bj];
+        kin.v_rel = point_velocity(p_.v[bj], p_.w[bj], lever_j) -
+                    point_velocity(p_.v[bi], p_.w[bi], lever_i);
+        kin.m_eff = p_.mass[bi] * p_.mass[bj] / (p_.mass[bi] + p_.mass[bj]);
+        if constexpr (Rolling) {
+          kin.w_rel = p_.w[bj] - p_.w[bi];
+          kin.r_eff = ri * rj / rsum;
+        }
+        const ContactProperties& prop = props[mi * nmat + p_.material[j]];
+        const Vec3 force = linear_contact<Rolling, Energy>(
+            prop, kin, dt, h.shear[k], Rolling ? h.roll[k] : unused_roll, roll_moment, d);
+        h.fn[k] = force.dot(kin.n);
+        F[bj] += force;
+        F[bi] -= force;
+        T[bj] += lever_j.cross(force);
+        T[bi] -= lever_i.cross(force);
+        if constexpr (Rolling) {
+          T[bj] += roll_moment;
+          T[bi] -= roll_moment;
+        }
+      }
+    }
+    s.dissipation += d;
+  }
+}
+
+template <bool Rolling, bool Energy>
+void Simulation::plane_forces() {
+  const double dt = settings_.time_step;
+  const int nplanes = static_cast<int>(planes_.size());
+#pragma omp parallel
+  {
+    ThreadScratch& s = (*scratch_)[omp_get_thread_num()];
+    Vec3* F = omp_get_thread_num() == 0 ? p_.f.data() : s.f.data();
+    Vec3* T = omp_get_thread_num() == 0 ? p_.t.data() : s.t.data();
+    Dissipation d;
+    Vec3 roll_moment = Vec3::Zero();
+    for (int w = 0; w < nplanes; ++w) {
+      const PlaneWall& wall = planes_[w];
+      WallHistory& h = plane_history_[w];
+      const int nc = static_cast<int>(h.element.size());
+#pragma omp for schedule(static) nowait
+      for (int c = 0; c < nc; ++c) {
+        const int e = h.element[c];
+        const double r = p_.radius[e];
+        const double dist = wall.distance(p_.pos[e]);
+        if (dist >= r) {
+          h.shear[c].setZero();
+          h.roll[c].setZero();
+          h.fn[c] = 0;
+          continue;
+        }
+        const int b = p_.body[e];
+        ContactKinematics kin;
+        kin.n = wall.normal;  // from the wall (side i) to the particle (side j)
+        kin.overlap = r - dist;
+        if (kin.overlap > settings_.max_overlap_ratio * r) {
+          const double ratio = kin.overlap / r;
+          if (ratio > s.max_overlap_ratio)
+            s.max_overlap_ratio = ratio, s.worst_i = -2 - w, s.worst_j = e;
+        }
+        const Vec3 c_pt = p_.pos[e] - dist * wall.normal;  // the touched point of the plane
+        const Vec3 lever = c_pt - p_.x[b];
+        kin.v_rel = point_velocity(p_.v[b], p_.w[b], lever) - wall.velocity;
+        kin.w_rel = p_.w[b];
+        kin.m_eff = p_.mass[b];
+        kin.r_eff = r;
+        const ContactProperties& prop = materials_.pair(wall.material, p_.material[e]);
+        const Vec3 force =
+            linear_contact<Rolling, Energy>(prop, kin, dt, h.shear[c], h.roll[c], roll_moment, d);
+        h.fn[c] = force.dot(kin.n);
+        F[b] += force;
+        T[b] += lever.cross(force);
+        if constexpr (Rolling) T[b] += roll_moment;
+        s.wall_f[w] -= force;
+        s.wall_t[w] -= (c_pt - wall.point).cross(force) + (Rolling ? roll_moment : Vec3::Zero());
+      }
+    }
+    s.dissipation += d;
+  }
+}
+
+template <bool Rolling, bool Energy>
+void Simulation::mesh_forces() {
+  const double dt = settings_.time_step;
+  constexpr int S = WallHistory::kSlots;
+  const int nplanes = static_cast<int>(planes_.size());
+#pragma omp parallel
+  {
+    ThreadScratch& s = (*scratch_)[omp_get_thread_num()];
+    Vec3* F = omp_get_thread_num() == 0 ? p_.f.data() : s.f.data();
+    Vec3* T = omp_get_thread_num() == 0 ? p_.t.data() : s.t.data();
+    Dissipation d;
+    Vec3 roll_moment = Vec3::Zero();
+    for (std::size_t m = 0; m < meshes_.size(); ++m) {
+      const MeshBody& body = meshes_[m];
+      WallHistory& h = plane_history_[nplanes + m];
+      const int slot_wall = nplanes + static_cast<int>(m);
+      const int nc = static_cast<int>(h.element.size());
+#pragma omp for schedule(static) nowait
+      for (int c = 0; c < nc; ++c) {
+        const int e = h.element[c];
+        const double r = p_.radius[e];
+        sphere_mesh_contacts(body.world, p_.pos[e], r, h.triangles.data() + h.triangle_offsets[c],
+                             h.triangle_offsets[c + 1] - h.triangle_offsets[c], s.mesh_points);
+        // Each new contact inherits the spring of the old contact of this element whose normal
+        // is closest (within 60 degrees): a particle sliding over an edge keeps its history.
+        Vec3 shear[S], roll[S], normal[S];
+        double fn[S];
+        const int used = std::min<int>(static_cast<int>(s.mesh_points.size()), S);
+        const int b = p_.body[e];
+        for (int a = 0; a < used; ++a) {
+          const MeshContactPoint& pt = s.mesh_points[a];
+          int best = -1;
+          double best_dot = 0.5;
+          for (int o = 0; o < S; ++o) {
+            if (h.fn[c * S + o] <= 0 && h.shear[c * S + o].squaredNorm() == 0) continue;
+            const double dot = h.normal[c * S + o].dot(pt.normal);
+            if (dot > best_dot) best_dot = dot, best = o;
+          }
+          shear[a] = best >= 0 ? h.shear[c * S + best] : Vec3::Zero();
+          roll[a] = best >= 0 ? h.roll[c * S + best] : Vec3::Zero();
+          normal[a] = pt.normal;
+
+          ContactKinematics kin;
+          kin.n = pt.normal;
+          kin.overlap = pt.overlap;
+          if (kin.overlap > settings_.max_overlap_ratio * r) {
+            const double ratio = kin.overlap / r;
+            if (ratio > s.max_overlap_ratio)
+              s.max_overlap_ratio = ratio, s.worst_i = -2 - slot_wall, s.worst_j = e;
+          }
+          const Vec3 lever = pt.point - p_.x[b];
+          const Vec3 wall_lever = pt.point - body.x;
+          kin.v_rel =
+              point_velocity(p_.v[b], p_.w[b], lever) - point_velocity(body.v, body.w, wall_lever);
+          kin.w_rel = p_.w[b] - body.w;
+          kin.m_eff = p_.mass[b];
+          kin.r_eff = r;
+          const ContactProperties& prop = materials_.pair(body.material, p_.material[e]);
+          const Vec3 force =
+              linear_contact<Rolling, Energy>(prop, kin, dt, shear[a], roll[a], roll_moment, d);
+          fn[a] = force.dot(kin.n);
+          F[b] += force;
+          T[b] += lever.cross(force);
+          if constexpr (Rolling) T[b] += roll_moment;
+          const Vec3 moment = wall_lever.cross(force) + (Rolling ? roll_moment : Vec3::Zero());
+          s.wall_f[slot_wall] -= force;
+          s.wall_t[slot_wall] -= moment;
+          s.wall_k[slot_wall] += prop.kn * kin.n.cwiseAbs2();
+          s.wall_kr[slot_wall] += prop.kn * wall_lever.cross(kin.n).cwiseAbs2();
+          const int part = body.world.triangle_part[pt.triangle];
+          s.part_f[m][part] -= force;
+          s.part_t[m][part] -= moment;
+        }
+        for (int a = 0; a < S; ++a) {
+          const bool live = a < used;
+          h.shear[c * S + a] = live ? shear[a] : Vec3::Zero();
+          h.roll[c * S + a] = live ? roll[a] : Vec3::Zero();
+          h.normal[c * S + a] = live ? normal[a] : Vec3::Zero();
+          h.fn[c * S + a] = live ? fn[a] : 0.0;
+        }
+      }
+    }
+    s.dissipation += d;
+  }
+}
+
+void Simulation::compute_forces() {
+  const int nthreads = omp_get_max_threads();
+  const int nb = p_.num_bodies();
+  const std::size_t nwalls = planes_.size() + meshes_.size();
+  scratch_->resize(nthreads);
+#pragma omp parallel
+  {
+    const int tid = omp_get_thread_num();
+    ThreadScratch& s = (*scratch_)[tid];
+    if (tid > 0) {
+      s.f.assign(nb, Vec3::Zero());
+      s.t.assign(nb, Vec3::Zero());
+    }
+    s.wall_f.assign(nwalls, Vec3::Zero());
+    s.wall_t.assign(nwalls, Vec3::Zero());
+    s.wall_k.assign(nwalls, Vec3::Zero());
+    s.wall_kr.assign(nwalls, Vec3::Zero());
+    s.part_f.resize(meshes_.size());
+    s.part_t.resize(meshes_.size());
+    for (std::size_t m = 0; m < meshes_.size(); ++m) {
+      s.part_f[m].assign(meshes_[m].local.part_names.size(), Vec3::Zero());
+      s.part_t[m].assign(meshes_[m].local.part_names.size(), Vec3::Zero());
+    }
+    s.dissipation = Dissipation();
+    s.max_overlap_ratio = 0;
+#pragma omp for schedule(static)
+    for (int b = 0; b < nb; ++b) {
+      p_.f[b].setZero();
+      p_.t[b].setZero();
+    }
+  }
+
+  const bool rolling = materials_.any_rolling();
+  const bool energy = settings_.track_energy;
+  if (rolling) {
+    energy ? pair_forces<true, true>() : pair_forces<true, false>();
+    energy ? plane_forces<true, true>() : plane_forces<true, false>();
+    energy ? mesh_forces<true, true>() : mesh_forces<true, false>();
+  } else {
+    energy ? pair_forces<false, true>() : pair_forces<false, false>();
+    energy ? plane_forces<false, true>() : plane_forces<false, false>();
+    energy ? mesh_forces<false, true>() : mesh_forces<false, false>();
+  }
+  reduce_thread_forces();
+}
+
+void Simulation::reduce_thread_forces() {
+  auto& scratch = *scratch_;
+  const int nthreads = static_cast<int>(scratch.size());
+  const int nb = p_.num_bodies();
+  if (nthreads > 1) {
+#pragma omp parallel for schedule(static)
+    for (int b = 0; b < nb; ++b)
+      for (int t = 1; t < nthreads; ++t) {
+        p_.f[b] += scratch[t].f[b];
+        p_.t[b] += scratch[t].t[b];
+      }
+  }
+  // Walls, dissipation and the runaway check, summed in thread order (deterministic).
+  for (auto& w : planes_) w.force.setZero(), w.moment.setZero();
+  for (auto& m : meshes_) {
+    m.contact_force.setZero();
+    m.contact_moment.setZero();
+    m.contact_stiffness.setZero();
+    m.contact_rotational_stiffness.setZero();
+    for (auto& v : m.part_force) v.setZero();
+    for (auto& v : m.part_moment) v.setZero();
+  }
+  double worst = 0;
+  int wi = -1, wj = -1;
+  for (const auto& s : scratch) {
+    for (std::size_t w = 0; w < planes_.size(); ++w) {
+      planes_[w].force += s.wall_f[w];
+      planes_[w].moment += s.wall_t[w];
+    }
+    for (std::size_t m = 0; m < meshes_.size(); ++m) {
+      meshes_[m].contact_force += s.wall_f[planes_.size() + m];
+      meshes_[m].contact_moment += s.wall_t[planes_.size() + m];
+      meshes_[m].contact_stiffness += s.wall_k[planes_.size() + m];
+      meshes_[m].contact_rotational_stiffness += s.wall_kr[planes_.size() + m];
+      for (std::size_t k = 0; k < meshes_[m].part_force.size(); ++k) {
+        meshes_[m].part_force[k] += s.part_f[m][k];
+        meshes_[m].part_moment[k] += s.part_t[m][k];
+      }
+    }
+    tally_.friction += s.dissipation.friction;
+    tally_.rolling += s.dissipation.rolling;
+    tally_.dashpot += s.dissipation.dashpot;
+    if (s.max_overlap_ratio > worst) worst = s.max_overlap_ratio, wi = s.worst_i, wj = s.worst_j;
+  }
+  if (worst > 0) {
+    const int nplanes = static_cast<int>(planes_.size());
+    std::string other;
+    if (wi <= -2) {
+      const int w = -2 - wi;
+      other = w < nplanes ? "wall '" + planes_[w].name + "'"
+                          : "mesh '" + meshes_[w - nplanes].name + "'";
+    }
+    runaway(wi, wj, worst, other);
+  }
+}
+
+void Simulation::runaway(int ei, int ej, double ratio, const std::string& other) const {
+  std::ostringstream s;
+  s << "runaway overlap at t = " << time_ << " s (step " << steps_ << "): ";
+  if (other.empty())
+    s << "particles " << p_.id[p_.body[ei]] << " and " << p_.id[p_.body[ej]];
+  else
+    s << "particle " << p_.id[p_.body[ej]] << " and " << other;
+  s << " overlap by " << ratio << " of the smaller radius (limit " << settings_.max_overlap_ratio
+    << "); the model is unstable: reduce the time step (critical " << critical_timestep()
+    << " s) or the loading rate, or raise the stiffness";
+  throw std::runtime_error(s.str());
+}
+
+// ---------------------------------------------------------------------------------------------
+// Time integration
+
+void Simulation::apply_body_loads_and_integrate() {
+  const int nb = p_.num_bodies();
+  const double dt = settings_.time_step;
+  const Vec3 g = settings_.gravity;
+  double local = 0, gravity_work = 0;
+#pragma omp parallel for schedule(static) reduction(+ : local, gravity_work)
+  for (int b = 0; b < nb; ++b) {
+    const double m = p_.mass[b];
+    const double alpha = materials_[p_.body_material[b]].local_damping;
+    Vec3 F = p_.f[b] + m * g;
+    Vec3 M = p_.t[b];
+    // Local damping (PFC): each component of the unbalanced force and moment is reduced by
+    // alpha |F_k| against the sign of the matching velocity component.
+    Vec3 Fd = Vec3::Zero(), Md = Vec3::Zero();
+    if (alpha > 0) {
+      for (int k = 0; k < 3; ++k) {
+        Fd[k] = -alpha * std::abs(F[k]) * ((p_.v[b][k] > 0) - (p_.v[b][k] < 0));
+        Md[k] = -alpha * std::abs(M[k]) * ((p_.w[b][k] > 0) - (p_.w[b][k] < 0));
+      }
+      F += Fd;
+      M += Md;
+    }
+    p_.v[b] += F * (dt / m);
+    const Vec3 dx = p_.v[b] * dt;
+    p_.x[b] += dx;
+    gravity_work += m * g.dot(dx);
+    if (p_.is_clump[b]) {
+      p_.L[b] += M * dt;
+      free_rotation(p_.q[b], p_.L[b], p_.inertia[b], dt);
+      p_.w[b] = angular_velocity(p_.q[b], p_.L[b], p_.inertia[b]);
+    } else {
+      p_.w[b] += M * (dt / p_.inertia[b][0]);
+    }
+    local -= Fd.dot(dx) + Md.dot(p_.w[b]) * dt;
+  }
+  tally_.local_damping += local;
+  tally_.gravity_work += gravity_work;
+}
+
+void Simulation::move_walls() {
+  const double dt = settings_.time_step;
+  for (auto& w : planes_) {
+    // Work of the wall on the particles: minus the particles' force on it times its motion.
+    tally_.wall_work -= w.force.dot(w.velocity) * dt;
+    w.point += w.velocity * dt;
+  }
+  for (auto& m : meshes_) {
+    const Vec3 x0 = m.x;
+    m.integrate(dt, settings_.gravity);
+    tally_.wall_work -= m.contact_force.dot(m.x - x0) + m.contact_moment.dot(m.w) * dt;
+  }
+}
+
+void Simulation::step() {
+  if (!ready_) setup();
+  compute_forces();
+  apply_body_loads_and_integrate();
+  move_walls();
+  p_.update_element_positions();
+  time_ += settings_.time_step;
+  ++steps_;
+  if (needs_rebuild()) rebuild();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Diagnostics
+
+double Simulation::critical_timestep() const {
+  // Stiffness per body and DOF: translation k_a = sum_c [k_n n_a^2 + k_s (1 - n_a^2)], rotation
+  // k_rot = sum_c (k_s |lever x e_a|^2 + k_n |lever x n . e_a|^2) + k_roll; PFC takes sqrt(m/k).
+  const int nb = p_.num_bodies();
+  std::vector<Vec3> kt(nb, Vec3::Zero()), kr(nb, Vec3::Zero());
+  auto add = [&](int b, const ContactProperties& pr, const Vec3& n, const Vec3& lever, double r) {
+    for (int a = 0; a < 3; ++a) {
+      kt[b][a] += pr.kn * n[a] * n[a] + pr.ks * (1 - n[a] * n[a]);
+      const Vec3 arm = lever.cross(Vec3::Unit(a));
+      kr[b][a] += pr.ks * arm.squaredNorm() + (pr.has_rolling() ? pr.ks * r * r : 0.0);
+    }
+  };
+  for (int i = 0; i < p_.num_elements(); ++i)
+    for (int k = list_.offsets[i]; k < list_.offsets[i + 1]; ++k) {
+      const int j = list_.partners[k];
+      const Vec3 d = p_.pos[j] - p_.pos[i];
+      if (d.norm() >= p_.radius[i] + p_.radius[j]) continue;
+      const Vec3 n = d.normalized();
+      const ContactProperties& pr = materials_.pair(p_.material[i], p_.material[j]);
+      const double reff = p_.radius[i] * p_.radius[j] / (p_.radius[i] + p_.radius[j]);
+      add(p_.body[i], pr, n, p_.pos[i] + n * p_.radius[i] - p_.x[p_.body[i]], reff);
+      add(p_.body[j], pr, n, p_.pos[j] - n * p_.radius[j] - p_.x[p_.body[j]], reff);
+    }
+  for (std::size_t w = 0; w < planes_.size(); ++w)
+    for (int e : plane_history_[w].element) {
+      if (planes_[w].distance(p_.pos[e]) >= p_.radius[e]) continue;
+      const ContactProperties& pr = materials_.pair(planes_[w].material, p_.material[e]);
+      add(p_.body[e], pr, planes_[w].normal,
+          p_.pos[e] - planes_[w].normal * p_.radius[e] - p_.x[p_.body[e]], p_.radius[e]);
+    }
+  double dt = std::numeric_limits<double>::infinity();
+  for (int b = 0; b < nb; ++b) {
+    if (kt[b].maxCoeff() == 0) {
+      // A body touching nothing yet: one contact with its own material, its first touch.
+      const int e = p_.first_element[b];
+      const ContactProperties& pr = materials_.pair(p_.material[e], p_.material[e]);
+      kt[b].setConstant(std::max(pr.kn, pr.ks));
+      kr[b].setConstant(pr.ks * std::pow((p_.pos[e] - p_.x[b]).norm() + p_.radius[e], 2));
+    }
+    dt = std::min(dt, std::sqrt(p_.mass[b] / kt[b].maxCoeff()));
+    if (kr[b].maxCoeff() > 0)
+      dt = std::min(dt, std::sqrt(p_.inertia[b].minCoeff() / kr[b].maxCoeff()));
+  }
+  return dt;
+}
+
+EnergyBudget Simulation::energy() const {
+  EnergyBudget e = tally_;
+  e.kinetic = p_.kinetic_energy();
+  double strain = 0;
+  const PairHistory& h = *pair_history_;
+  const bool rolling = !h.roll.empty();
+  for (int i = 0; i < p_.num_elements(); ++i)
+    for (int k = list_.offsets[i]; k < list_.offsets[i + 1]; ++k) {
+      const int j = list_.partners[k];
+      const double overlap = p_.radius[i] + p_.radius[j] - (p_.pos[j] - p_.pos[i]).norm();
+      if (overlap <= 0) continue;
+      const double reff = p_.radius[i] * p_.radius[j] / (p_.radius[i] + p_.radius[j]);
+      strain += contact_strain_energy(materials_.pair(p_.material[i], p_.material[j]), overlap,
+                                      h.shear[k], rolling ? h.roll[k] : Vec3::Zero(), reff);
+    }
+  for (std::size_t w = 0; w < planes_.size(); ++w) {
+    const WallHistory& wh = plane_history_[w];
+    for (std::size_t c = 0; c < wh.element.size(); ++c) {
+      const int el = wh.element[c];
+      const double overlap = p_.radius[el] - planes_[w].distance(p_.pos[el]);
+      if (overlap <= 0) continue;
+      strain += contact_strain_energy(materials_.pair(planes_[w].material, p_.material[el]),
+                                      overlap, wh.shear[c], wh.roll[c], p_.radius[el]);
+    }
+  }
+  std::vector<MeshContactPoint> points;
+  constexpr int S = WallHistory::kSlots;
+  for (std::size_t m = 0; m < meshes_.size(); ++m) {
+    const WallHistory& wh = plane_history_[planes_.size() + m];
+    for (std::size_t c = 0; c < wh.element.size(); ++c) {
+      const int el = wh.element[c];
+      sphere_mesh_contacts(meshes_[m].world, p_.pos[el], p_.radius[el],
+                           wh.triangles.data() + wh.triangle_offsets[c],
+                           wh.triangle_offsets[c + 1] - wh.triangle_offsets[c], points);
+      const ContactProperties& pr = materials_.pair(meshes_[m].material, p_.material[el]);
+      for (std::size_t a = 0; a < points.size() && a < S; ++a)
+        strain += contact_strain_energy(pr, points[a].overlap, wh.shear[c * S + a],
+                                        wh.roll[c * S + a], p_.radius[el]);
+    }
+  }
+  e.strain = strain;
+  return e;
+}
+
+void Simulation::for_each_contact(const std::function<void(const ContactRecord&)>& f) const {
+  const PairHistory& h = *pair_history_;
+  for (int i = 0; i < p_.num_elements(); ++i)
+    for (int k = list_.offsets[i]; k < list_.offsets[i + 1]; ++k) {
+      if (h.fn[k] <= 0) continue;
+      const int j = list_.partners[k];
+      const Vec3 d = p_.pos[j] - p_.pos[i];
+      const Vec3 n = d.normalized();
+      const double overlap = p_.radius[i] + p_.radius[j] - d.norm();
+      ContactRecord r{i, j, -1, p_.pos[i] + n * (p_.radius[i] - 0.5 * overlap),
+                      h.fn[k] * n + h.shear[k]};
+      f(r);
+    }
+  for (std::size_t w = 0; w < planes_.size(); ++w) {
+    const WallHistory& wh = plane_history_[w];
+    for (std::size_t c = 0; c < wh.element.size(); ++c) {
+      if (wh.fn[c] <= 0) continue;
+      const int e = wh.element[c];
+      const Vec3 pt = p_.pos[e] - planes_[w].distance(p_.pos[e]) * planes_[w].normal;
+      f(ContactRecord{-1, e, static_cast<int>(w), pt, wh.fn[c] * planes_[w].normal + wh.shear[c]});
+    }
+  }
+  constexpr int S = WallHistory::kSlots;
+  for (std::size_t m = 0; m < meshes_.size(); ++m) {
+    const WallHistory& wh = plane_history_[planes_.size() + m];
+    for (std::size_t c = 0; c < wh.element.size(); ++c)
+      for (int a = 0; a < S; ++a) {
+        const int k = static_cast<int>(c) * S + a;
+        if (wh.fn[k] <= 0) continue;
+        const int e = wh.element[c];
+        const Vec3 pt = p_.pos[e] - wh.normal[k] * p_.radius[e];
+        f(ContactRecord{-1, e, static_cast<int>(planes_.size() + m), pt,
+                        wh.fn[k] * wh.normal[k] + wh.shear[k]});
+      }
+  }
+}
+
+int Simulation::num_contacts() const {
+  int n = 0;
+  for (double fn : pair_history_->fn) n += fn > 0;
+  for (const auto& wh : plane_history_)
+    for (double fn : wh.fn) n += fn > 0;
+  return n;
+}
+
+double Simulation::max_particle_contact_force() const {
+  double m = 0;
+  const PairHistory& h = *pair_history_;
+  for (std::size_t k = 0; k < h.fn.size(); ++k)
+    if (h.fn[k] > 0) m = std::max(m, std::hypot(h.fn[k], h.shear[k].norm()));
+  return m;
+}
+
+double Simulation::max_wall_contact_force() const {
+  double m = 0;
+  for (const auto& wh : plane_history_)
+    for (std::size_t k = 0; k < wh.fn.size(); ++k)
+      if (wh.fn[k] > 0) m = std::max(m, std::hypot(wh.fn[k], wh.shear[k].norm()));
+  return m;
+}
+
+void Simulation::check_finite() const {
+  for (int b = 0; b < p_.num_bodies(); ++b)
+    if (!p_.x[b].allFinite() || !p_.v[b].allFinite() || !p_.w[b].allFinite()) {
+      std::ostringstream s;
+      s << "particle " << p_.id[b] << " has a non-finite position or velocity at t = " << time_
+        << " s (step " << steps_ << "); the model blew up: reduce the time step (critical "
+        << critical_timestep() << " s) or check stiffness and loading";
+      throw std::runtime_error(s.str());
+    }
+}
+
+}  // namespace trackbed::dem

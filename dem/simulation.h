@@ -1,0 +1,139 @@
+// The DEM engine: one class that owns particles, walls and contacts and advances them in time.
+//
+//   run():  repeat step():
+//             compute_forces()   contacts (pairs, planes, meshes), gravity, local damping
+//             integrate()        leapfrog for bodies, wall motion
+//             rebuild if some element moved more than skin/2
+//
+// The time integration is the central-difference (leapfrog) scheme of PFC: velocities live at
+// half steps, positions at full steps. See docs/theory.md.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dem/contact_law.h"
+#include "dem/material.h"
+#include "dem/mesh_body.h"
+#include "dem/neighbor_list.h"
+#include "dem/particles.h"
+#include "dem/plane_wall.h"
+
+namespace trackbed::dem {
+
+struct SimulationSettings {
+  double time_step = 1e-5;  // s; 0: critical_fraction * the critical timestep at setup
+  double critical_fraction = 0.2;
+  Vec3 gravity = Vec3(0, 0, -9.81);
+  double skin = 0.004;             // Verlet skin, m
+  bool track_energy = true;        // tally dissipation every step (costs ~10 % of a step)
+  double max_overlap_ratio = 0.5;  // runaway: overlap above this fraction of the smaller radius
+  double initial_overlap_ratio = 0.05;  // setup: tolerated overlap as a fraction of the radius
+  bool allow_supercritical_step = false;
+};
+
+// Energy bookkeeping (J). With no numerical error
+//   kinetic + strain + dissipated() - gravity_work - wall_work = initial kinetic + initial strain.
+struct EnergyBudget {
+  double kinetic = 0, strain = 0;
+  double friction = 0, rolling = 0, dashpot = 0, local_damping = 0;
+  double gravity_work = 0, wall_work = 0;
+  double dissipated() const { return friction + rolling + dashpot + local_damping; }
+  double total() const { return kinetic + strain + dissipated() - gravity_work - wall_work; }
+};
+
+// One active contact, for output (force chains) and statistics.
+struct ContactRecord {
+  int element_i;  // -1 for a wall
+  int element_j;
+  int wall = -1;  // plane index, or planes + mesh index; -1 for particle-particle
+  Vec3 point;
+  Vec3 force;  // on j
+};
+
+class Simulation {
+ public:
+  Simulation(MaterialTable materials, Particles particles, SimulationSettings settings);
+  ~Simulation();
+  Simulation(Simulation&&) noexcept;
+  Simulation& operator=(Simulation&&) noexcept;
+
+  int add_plane(const PlaneWall& wall);
+  int add_mesh_body(MeshBody body);
+
+  // Builds contacts and checks the start: overlaps, timestep against the critical one.
+  void setup();
+  void step();
+
+  double time() const { return time_; }
+  long step_count() const { return steps_; }
+  double time_step() const { return settings_.time_step; }
+  const SimulationSettings& settings() const { return settings_; }
+  const MaterialTable& materials() const { return materials_; }
+  const Particles& particles() const { return p_; }
+  Particles& particles() { return p_; }
+  const std::vector<PlaneWall>& planes() const { return planes_; }
+  std::vector<PlaneWall>& planes() { return planes_; }
+  const std::vector<MeshBody>& meshes() const { return meshes_; }
+  std::vector<MeshBody>& meshes() { return meshes_; }
+
+  // PFC's estimate: min over bodies and degrees of freedom of sqrt(m/k) and sqrt(I/k_rot) with
+  // the stiffness summed over the body's current contacts (a body with none: one contact).
+  double critical_timestep() const;
+  EnergyBudget energy() const;
+  int num_contacts() const;  // touching pairs and wall contacts of the last step
+  int num_neighbor_builds() const { return builds_; }
+  void for_each_contact(const std::function<void(const ContactRecord&)>& f) const;
+  // Largest normal force of the last step between particles and against walls/meshes, N.
+  double max_particle_contact_force() const;
+  double max_wall_contact_force() const;
+  // Checks the state for NaN; throws a std::runtime_error naming the first bad body.
+  void check_finite() const;
+
+  // Restores the contact history and clock (checkpoints).
+  void set_time(double t, long steps) { time_ = t, steps_ = steps; }
+
+ private:
+  struct PairHistory;
+  struct WallHistory;
+  struct ThreadScratch;
+
+  template <bool Rolling, bool Energy>
+  void pair_forces();
+  template <bool Rolling, bool Energy>
+  void plane_forces();
+  template <bool Rolling, bool Energy>
+  void mesh_forces();
+  void compute_forces();
+  void reduce_thread_forces();
+  void apply_body_loads_and_integrate();
+  void move_walls();
+  bool needs_rebuild() const;
+  void rebuild();
+  void check_initial_overlaps() const;
+  [[noreturn]] void runaway(int ei, int ej, double ratio, const std::string& other) const;
+
+  MaterialTable materials_;
+  Particles p_;
+  SimulationSettings settings_;
+  std::vector<PlaneWall> planes_;
+  std::vector<MeshBody> meshes_;
+
+  NeighborList list_;
+  std::unique_ptr<PairHistory> pair_history_;
+  std::vector<WallHistory> plane_history_;
+  std::vector<Vec3> pos_at_build_;
+  std::vector<Vec3> plane_point_at_build_;  // planes, then mesh reference points
+  std::vector<Quat> mesh_q_at_build_;
+  std::unique_ptr<std::vector<ThreadScratch>> scratch_;
+
+  double time_ = 0;
+  long steps_ = 0;
+  int builds_ = 0;
+  bool ready_ = false;
+  EnergyBudget tally_;  // dissipation and work terms accumulated so far
+};
+
+}  // namespace trackbed::dem
