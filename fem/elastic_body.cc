@@ -158,7 +158,7 @@ const Material& ElasticBody::Impl::material(const CellIterator& cell) const {
 // boundary id the mesh has. The coarse mesh is known to every process, so these checks need no
 // communication and every process throws the same error.
 void ElasticBody::Impl::check_input() const {
-  if (triangulation.n_cells(0) == 0)
+  if (triangulation.n_levels() == 0)
     throw InputError(
         "fem: no mesh; build one with make_box, make_track_section, make_sleeper or "
         "read_gmsh before setup");
@@ -443,10 +443,7 @@ SolveReport ElasticBody::setup() {
   d.resolve_tractions();
   d.assemble_stiffness();
   report.assembly_seconds = timer.wall_time();
-  timer.restart();
-  d.static_solver.initialize(d.stiffness, d.solver_parameters, d.degree > 1, d.owned_support_points,
-                             d.owned_components);
-  report.preconditioner_seconds = timer.wall_time();
+  d.static_solver_ready = false;
   d.is_set_up = true;
   d.is_dynamic = false;
   d.time = 0.0;
@@ -459,6 +456,14 @@ SolveReport ElasticBody::solve_static() {
   if (!d.is_set_up) setup();
   SolveReport report;
   Timer timer;
+  // The preconditioner is built on the first solve after setup and reused until the next setup.
+  if (!d.static_solver_ready) {
+    d.static_solver.initialize(d.stiffness, d.solver_parameters, d.degree > 1,
+                               d.owned_support_points, d.owned_components);
+    d.static_solver_ready = true;
+    report.preconditioner_seconds = timer.wall_time();
+    timer.restart();
+  }
   DistributedVector load(d.owned_dofs, d.communicator);
   d.assemble_load(load);
   report.assembly_seconds = timer.wall_time();

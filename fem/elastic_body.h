@@ -120,10 +120,12 @@ class ElasticBody {
   void set_solver(const SolverParameters& parameters);
 
   // --- Algorithm ---
-  // Checks the input, distributes dofs, assembles the stiffness matrix and builds the AMG
-  // preconditioner (or the direct factorisation). Call again after changing mesh or materials.
+  // Checks the input, distributes dofs and assembles the stiffness matrix (the displacement is
+  // zero after it). Call again after changing mesh, materials or fixed boundaries.
   SolveReport setup();
-  // Quasi-static: solves K u = f for the current loads, reusing matrix and preconditioner.
+  // Quasi-static: solves K u = f for the current loads. The first solve after setup builds the
+  // AMG preconditioner (or the direct factorisation); later solves reuse matrix and
+  // preconditioner and start from the previous displacement.
   SolveReport solve_static();
   // Dynamic: starts Newmark time stepping from the current displacement at rest; assembles the
   // mass, damping and effective matrices and the preconditioner of the effective matrix.

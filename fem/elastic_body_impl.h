@@ -117,6 +117,7 @@ struct ElasticBody::Impl {
   DistributedVector solution, velocity, acceleration, interface_load;
   DistributedVector ghosted_solution, ghosted_velocity;
   bool is_set_up = false;
+  bool static_solver_ready = false;
   bool is_dynamic = false;
   NewmarkParameters newmark;
   double time = 0.0;
