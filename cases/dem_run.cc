@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <csignal>
@@ -202,9 +203,7 @@ void DemRun::write_history() {
                               << (e.total() - initial_energy_.total()) / scale << "\n";
   }
   const auto& p = sim_->particles();
-  for (long id : prm_.tracked_bodies) {
-    if (id >= p.num_bodies()) continue;
-    const int b = static_cast<int>(id);
+  for (const int b : tracked_) {
     series_->bodies->stream() << t << "," << p.id[b] << "," << p.x[b].x() << "," << p.x[b].y()
                               << "," << p.x[b].z() << "," << p.v[b].x() << "," << p.v[b].y() << ","
                               << p.v[b].z() << "," << p.w[b].x() << "," << p.w[b].y() << ","
@@ -257,6 +256,15 @@ int DemRun::run() {
   sim_->setup();
   initial_energy_ = sim_->energy();
   initial_positions_ = sim_->particles().pos;
+  // Bodies are reordered at setup; the case file names them by id (row of the particle file).
+  for (long id : prm_.tracked_bodies) {
+    const auto& ids = sim_->particles().id;
+    const auto it = std::find(ids.begin(), ids.end(), id);
+    if (it == ids.end())
+      throw dem::InputError(prm_.file + ": output/tracked bodies: no body with id " +
+                            std::to_string(id) + "; valid: 0 to " + std::to_string(ids.size() - 1));
+    tracked_.push_back(static_cast<int>(it - ids.begin()));
+  }
   total_steps_ = prm_.number_of_steps > 0
                      ? prm_.number_of_steps
                      : static_cast<long>(std::ceil(prm_.end_time / sim_->time_step() - 1e-9));

@@ -45,6 +45,7 @@ class DemRun {
   std::unique_ptr<Series> series_;
   std::unique_ptr<dem::PvdCollection> pvd_particles_, pvd_contacts_, pvd_walls_;
   std::vector<dem::Vec3> initial_positions_;
+  std::vector<int> tracked_;  // body indices of output/tracked bodies
   int frame_ = 0;
 
   using Clock = std::chrono::steady_clock;

@@ -26,15 +26,21 @@ def main(folder):
     _, energy = read(os.path.join(folder, "history", "energy.csv"))
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12, 4.5))
     t = walls.get("time", [])
-    # Vertical reactions of plane walls and the contact forces on meshes: the main curves.
+    # The vertical loads: reactions of the plane walls (upward positive) and the vertical
+    # contact force on every mesh body. Lateral mesh forces where they are not zero.
     for h in header[1:]:
-        if h.endswith("_fz") and "." not in h:
-            ax1.plot(t, walls[h], label=h)
-        elif h.endswith("_fx") or h.endswith("_fy"):
-            if "." not in h and any(abs(v) > 0 for v in walls[h]) and not h.startswith("wall"):
-                ax1.plot(t, walls[h], "--", label=h)
+        if "." in h:
+            continue
+        values = walls[h]
+        if h.endswith("_fz"):
+            ax1.plot(t, [-v for v in values] if h.replace("_fz", "_x") not in walls else values,
+                     label=h[:-3] + (" vertical contact force" if h.replace("_fz", "_x") in walls
+                                    else " reaction"))
+        elif (h.endswith("_fx") or h.endswith("_fy")) and h.replace(h[-3:], "_x") in walls:
+            if any(abs(v) > 1e-9 for v in values):
+                ax1.plot(t, values, "--", label=h)
     ax1.set_xlabel("time (s)")
-    ax1.set_ylabel("force exerted by the particles (N)")
+    ax1.set_ylabel("force (N)")
     ax1.set_title("Wall and mesh forces")
     ax1.grid(True, alpha=0.3)
     ax1.legend(fontsize=7)

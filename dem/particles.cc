@@ -57,6 +57,64 @@ int Particles::add_clump(const ClumpTemplate& tmpl, const Vec3& centre, const Qu
   return b;
 }
 
+namespace {
+
+// Interleaves the bits of three 21-bit cell coordinates (Morton order).
+std::uint64_t morton(std::uint64_t x, std::uint64_t y, std::uint64_t z) {
+  auto spread = [](std::uint64_t v) {
+    v &= 0x1fffff;
+    v = (v | v << 32) & 0x1f00000000ffffULL;
+    v = (v | v << 16) & 0x1f0000ff0000ffULL;
+    v = (v | v << 8) & 0x100f00f00f00f00fULL;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+    v = (v | v << 2) & 0x1249249249249249ULL;
+    return v;
+  };
+  return spread(x) | spread(y) << 1 | spread(z) << 2;
+}
+
+template <class T>
+void permute(std::vector<T>& v, const std::vector<int>& order) {
+  std::vector<T> out;
+  out.reserve(order.size());
+  for (int i : order) out.push_back(v[i]);
+  v.swap(out);
+}
+
+}  // namespace
+
+void Particles::sort_spatially(double cell) {
+  const int nb = num_bodies();
+  if (nb == 0) return;
+  Vec3 lo = x[0];
+  for (const auto& c : x) lo = lo.cwiseMin(c);
+  std::vector<std::uint64_t> key(nb);
+  for (int b = 0; b < nb; ++b) {
+    const Vec3 c = (x[b] - lo) / cell;
+    key[b] = morton(static_cast<std::uint64_t>(c.x()), static_cast<std::uint64_t>(c.y()),
+                    static_cast<std::uint64_t>(c.z()));
+  }
+  std::vector<int> order(nb);
+  for (int b = 0; b < nb; ++b) order[b] = b;
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return key[a] < key[b]; });
+
+  std::vector<int> element_order;
+  element_order.reserve(num_elements());
+  std::vector<int> first{0};
+  for (int b : order) {
+    for (int e = first_element[b]; e < first_element[b + 1]; ++e) element_order.push_back(e);
+    first.push_back(static_cast<int>(element_order.size()));
+  }
+  permute(x, order), permute(v, order), permute(q, order), permute(w, order), permute(L, order);
+  permute(f, order), permute(t, order), permute(mass, order), permute(inertia, order);
+  permute(body_material, order), permute(id, order), permute(is_clump, order);
+  first_element.swap(first);
+  permute(pos, element_order), permute(offset, element_order), permute(radius, element_order);
+  permute(material, element_order);
+  for (int b = 0; b < nb; ++b)
+    for (int e = first_element[b]; e < first_element[b + 1]; ++e) body[e] = b;
+}
+
 void Particles::update_element_positions() {
   const int nb = num_bodies();
 #pragma omp parallel for schedule(static)

@@ -1,5 +1,6 @@
 #include "dem/random_packing.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <sstream>
@@ -45,9 +46,24 @@ void add_random_packing(const RandomPackingSpec& spec, const MaterialTable& mate
   const double density = materials[spec.material].density;
   const std::int64_t first_id = particles.num_bodies();
 
+  // Sizes and kinds are drawn first and placed largest first: a large body drawn late would
+  // find no hole big enough among many small ones (the usual remedy in sample generators).
+  struct Draw {
+    double r;
+    bool clump;
+  };
+  std::vector<Draw> draws(spec.count);
+  for (auto& d : draws) {
+    d.r = spec.radius_min + (spec.radius_max - spec.radius_min) * u01(rng);
+    d.clump = u01(rng) < spec.clump_fraction;
+  }
+  std::stable_sort(draws.begin(), draws.end(), [&](const Draw& a, const Draw& b) {
+    return a.r * (a.clump ? ratio : 1.0) > b.r * (b.clump ? ratio : 1.0);
+  });
+
   for (int n = 0; n < spec.count; ++n) {
-    const double r = spec.radius_min + (spec.radius_max - spec.radius_min) * u01(rng);
-    const bool clump = u01(rng) < spec.clump_fraction;
+    const double r = draws[n].r;
+    const bool clump = draws[n].clump;
     const double bound = clump ? r * ratio : r;
     bool placed = false;
     for (int a = 0; a < spec.attempts_per_body && !placed; ++a) {

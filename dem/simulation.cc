@@ -45,6 +45,13 @@ struct Simulation::ThreadScratch {
 
 namespace {
 
+// The normal force stored for a touching contact: a contact whose dashpot cancels its spring
+// (force 0) still exists (its overlap is positive), so it is kept as the smallest positive
+// number; 0 means "not in contact".
+inline double live_contact_force(double fn) {
+  return std::max(fn, std::numeric_limits<double>::min());
+}
+
 // Velocity of the material point x of a rigid body.
 inline Vec3 point_velocity(const Vec3& v, const Vec3& w, const Vec3& lever) {
   return v + w.cross(lever);
@@ -89,6 +96,8 @@ int Simulation::add_mesh_body(MeshBody body) {
 // Set-up and contact detection
 
 void Simulation::setup() {
+  // Neighbours in space become neighbours in memory before any index is handed out.
+  if (settings_.spatial_sort) p_.sort_spatially(2 * p_.max_element_radius() + settings_.skin);
   for (int b = 0; b < p_.num_bodies(); ++b)
     if (p_.is_clump[b]) p_.L[b] = p_.world_inertia(b) * p_.w[b];
   p_.update_element_positions();
@@ -294,10 +303,13 @@ void Simulation::pair_forces() {
         const double rsum = ri + p_.radius[j];
         const double d2 = dx.squaredNorm();
         if (d2 >= rsum * rsum) {
-          // Separated: the springs relax (PFC deletes the contact).
-          h.shear[k].setZero();
-          if constexpr (Rolling) h.roll[k].setZero();
-          h.fn[k] = 0;
+          // Separated: the springs relax (PFC deletes the contact). fn marks a live contact, so
+          // pairs that were apart already cost no write (and no cache line of history).
+          if (h.fn[k] != 0) {
+            h.shear[k].setZero();
+            if constexpr (Rolling) h.roll[k].setZero();
+            h.fn[k] = 0;
+          }
           continue;
         }
         const int bj = p_.body[j];
@@ -323,7 +335,7 @@ void Simulation::pair_forces() {
         const ContactProperties& prop = props[mi * nmat + p_.material[j]];
         const Vec3 force = linear_contact<Rolling, Energy>(
             prop, kin, dt, h.shear[k], Rolling ? h.roll[k] : unused_roll, roll_moment, d);
-        h.fn[k] = force.dot(kin.n);
+        h.fn[k] = live_contact_force(force.dot(kin.n));
         F[bj] += force;
         F[bi] -= force;
         T[bj] += lever_j.cross(force);
@@ -382,7 +394,7 @@ void Simulation::plane_forces() {
         const ContactProperties& prop = materials_.pair(wall.material, p_.material[e]);
         const Vec3 force =
             linear_contact<Rolling, Energy>(prop, kin, dt, h.shear[c], h.roll[c], roll_moment, d);
-        h.fn[c] = force.dot(kin.n);
+        h.fn[c] = live_contact_force(force.dot(kin.n));
         F[b] += force;
         T[b] += lever.cross(force);
         if constexpr (Rolling) T[b] += roll_moment;
@@ -454,7 +466,7 @@ void Simulation::mesh_forces() {
           const ContactProperties& prop = materials_.pair(body.material, p_.material[e]);
           const Vec3 force =
               linear_contact<Rolling, Energy>(prop, kin, dt, shear[a], roll[a], roll_moment, d);
-          fn[a] = force.dot(kin.n);
+          fn[a] = live_contact_force(force.dot(kin.n));
           F[b] += force;
           T[b] += lever.cross(force);
           if constexpr (Rolling) T[b] += roll_moment;

@@ -32,6 +32,7 @@ struct SimulationSettings {
   double max_overlap_ratio = 0.5;  // runaway: overlap above this fraction of the smaller radius
   double initial_overlap_ratio = 0.05;  // setup: tolerated overlap as a fraction of the radius
   bool allow_supercritical_step = false;
+  bool spatial_sort = true;  // reorder bodies along a Morton curve at setup (cache locality)
 };
 
 // Energy bookkeeping (J). With no numerical error
