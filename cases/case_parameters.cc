@@ -261,7 +261,8 @@ CaseParameters read_case_file(const std::string& path) {
   try {
     prm.parse_input(path);
   } catch (const std::exception& e) {
-    throw dem::InputError(path + ": " + one_line(e));
+    throw dem::InputError(path + ": " + one_line(e) +
+                          "; valid names and ranges: trackbed --print-parameters");
   }
   const fs::path base = fs::absolute(path).parent_path();
   auto resolve = [&](const std::string& f) {

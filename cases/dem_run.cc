@@ -246,6 +246,16 @@ void DemRun::report_progress(bool last) {
     << sim_->particles().kinetic_energy() << " J | "
     << (last ? "wall " + hms(wall) : "ETA " + hms(eta));
   std::cout << s.str() << std::endl;
+  // PFC's estimate follows the contacts; a bed that densifies can pass under the step chosen at
+  // the start. Said once: the estimate carries a safety factor of about 2 (docs/theory.md).
+  const double critical = sim_->critical_timestep();
+  if (!warned_critical_ && sim_->time_step() > critical) {
+    std::cout << "trackbed: warning: at t = " << sim_->time() << " s the time step "
+              << sim_->time_step() << " s is above the critical timestep " << critical
+              << " s of the current contacts; watch for instability or lower 'time step'"
+              << std::endl;
+    warned_critical_ = true;
+  }
   last_progress_ = now;
 }
 

@@ -47,6 +47,7 @@ class DemRun {
   std::vector<dem::Vec3> initial_positions_;
   std::vector<int> tracked_;  // body indices of output/tracked bodies
   int frame_ = 0;
+  bool warned_critical_ = false;
 
   using Clock = std::chrono::steady_clock;
   Clock::time_point start_, last_progress_, loop_start_;
