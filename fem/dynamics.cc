@@ -112,6 +112,7 @@ SolveReport ElasticBody::start_dynamics(const NewmarkParameters& parameters) {
                        " has a non-zero prescribed displacement; dynamic mode supports fixed "
                        "(zero) displacements only");
   if (!d.is_set_up) setup();
+  d.check_input();
   d.newmark = parameters;
   SolveReport report;
   Timer timer;

@@ -61,18 +61,23 @@ std::map<std::string, std::pair<int, unsigned int>> physical_names(const std::st
   return names;
 }
 
-// The one useful line of a deal.II exception text: the "Additional information" or the condition.
+// The one useful line of a deal.II exception text: its "Additional information", else the
+// violated condition.
 std::string first_reason(const std::string& what) {
   std::istringstream in(what);
-  std::string line, reason;
-  bool take_next = false;
+  std::string line, heading, information, condition;
   while (std::getline(in, line)) {
     line = std::regex_replace(line, std::regex("^\\s+|\\s+$"), "");
-    if (take_next && !line.empty()) return line;
-    if (line.rfind("Additional information:", 0) == 0) take_next = true;
-    if (reason.empty() && line.rfind("The violated condition was:", 0) == 0) take_next = true;
+    if (line.rfind("Additional information:", 0) == 0 ||
+        line.rfind("The violated condition was:", 0) == 0)
+      heading = line;
+    else if (!line.empty() && !heading.empty()) {
+      (heading[0] == 'A' ? information : condition) = line;
+      heading.clear();
+    }
   }
-  return "not a Gmsh mesh deal.II can read";
+  if (!information.empty()) return information;
+  return condition.empty() ? "not a Gmsh mesh deal.II can read" : condition;
 }
 
 }  // namespace
