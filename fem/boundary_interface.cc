@@ -79,8 +79,17 @@ const std::vector<InterfaceTriangle>& BoundaryInterface::triangles() const {
   return data_->triangles;
 }
 
+const InterfaceTriangle& BoundaryInterface::triangle(const TrianglePoint& point) const {
+  if (point.triangle >= data_->triangles.size())
+    throw InputError("fem interface: triangle index " + std::to_string(point.triangle) +
+                     " is out of range; valid: 0 to " +
+                     std::to_string(static_cast<long>(data_->triangles.size()) - 1) +
+                     " (this process's triangles)");
+  return data_->triangles[point.triangle];
+}
+
 Vector3 BoundaryInterface::position(const TrianglePoint& point) const {
-  const InterfaceTriangle& t = data_->triangles.at(point.triangle);
+  const InterfaceTriangle& t = triangle(point);
   Vector3 x{};
   for (unsigned int k = 0; k < 3; ++k)
     for (unsigned int c = 0; c < dim; ++c) x[c] += point.barycentric[k] * t.vertices[k][c];
@@ -89,7 +98,7 @@ Vector3 BoundaryInterface::position(const TrianglePoint& point) const {
 
 std::vector<ShapeWeight> BoundaryInterface::shape_weights(const TrianglePoint& point) const {
   const ElasticBody::Impl& d = body_.impl();
-  const InterfaceTriangle& t = data_->triangles.at(point.triangle);
+  const InterfaceTriangle& t = triangle(point);
   Point<dim> unit;
   for (unsigned int k = 0; k < 3; ++k)
     unit += point.barycentric[k] * to_point(t.unit_cell_points[k]);

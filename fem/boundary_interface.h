@@ -64,6 +64,8 @@ class BoundaryInterface {
   std::vector<std::array<Vector3, 2>> motion(const std::vector<TrianglePoint>& points) const;
 
  private:
+  // The triangle of a point; throws InputError for an index out of range.
+  const InterfaceTriangle& triangle(const TrianglePoint& point) const;
   ElasticBody& body_;
   struct Data;
   std::unique_ptr<Data> data_;

@@ -265,7 +265,13 @@ void ElasticBody::write_hdf5(const std::string& file_name, const double time) co
   DataOutBase::DataOutFilter filter(DataOutBase::DataOutFilterFlags(true, true));
   data_out.write_filtered_data(filter);
   const std::string temporary = file_name + ".tmp";
-  data_out.write_hdf5_parallel(filter, temporary, d.communicator);
+  try {
+    data_out.write_hdf5_parallel(filter, temporary, d.communicator);
+  } catch (const std::exception&) {
+    throw InputError(file_name +
+                     ": cannot write the HDF5 file; check that its directory exists "
+                     "and is writable");
+  }
   const std::string h5_name = file_name.substr(file_name.find_last_of('/') + 1);
   const std::string xdmf = file_name.substr(0, file_name.rfind(".h5")) + ".xdmf";
   const std::vector<XDMFEntry> entries{

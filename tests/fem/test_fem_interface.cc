@@ -7,6 +7,7 @@
 
 #include "fem/boundary_interface.h"
 #include "fem/elastic_body.h"
+#include "fem/errors.h"
 
 namespace trackbed::fem {
 namespace {
@@ -90,6 +91,7 @@ TEST_P(FemInterface, NodalLoadsSumToForcesAndMoments) {
   }
   top.clear_forces();
   EXPECT_NEAR(body.interface_load_resultant(reference).force[2], 0.0, 1e-12);
+  EXPECT_THROW(top.position({top.triangles().size(), {{1.0, 0.0, 0.0}}}), InputError);
 }
 
 // After a solve under the point forces, the displacement interpolated through the triangles

@@ -60,6 +60,30 @@ TEST(FemStatic, UniaxialColumnDirect) {
   uniaxial_column(SolverParameters::Method::direct);
 }
 
+// Quasi-static re-solves: the second solve reuses the preconditioner (no setup time) and, the
+// problem being linear, doubling the load doubles the displacement (1e-8 relative: two solves
+// to 1e-12).
+TEST(FemStatic, ResolveReusesPreconditionerAndIsLinear) {
+  ElasticBody body(1, MPI_COMM_WORLD);
+  body.make_box({{{0, 0, -2}}, {{2, 2, 0}}, {{6, 6, 6}}, {}});
+  body.set_material(0, subgrade_fill());
+  body.set_gravity({{0, 0, 0}});
+  body.fix(body.boundary_id("zmin"));
+  body.mark_boundary("patch", 6, [](const Vector3& c) { return c[2] > -1e-9 && c[0] < 1.0; });
+  body.set_traction(body.boundary_id("patch"), {{1e3, 0, -1e4}});
+  body.set_solver(tight());
+  body.setup();
+  const SolveReport first = body.solve_static();
+  const Vector3 point{{0.5, 1.0, -0.5}};
+  const Vector3 u1 = body.probe({point})[0].displacement;
+  body.set_traction(body.boundary_id("patch"), {{2e3, 0, -2e4}});
+  const SolveReport second = body.solve_static();
+  const Vector3 u2 = body.probe({point})[0].displacement;
+  EXPECT_GT(first.preconditioner_seconds, 0.0);
+  EXPECT_EQ(second.preconditioner_seconds, 0.0);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(u2[c], 2 * u1[c], 1e-8 * std::abs(u1[2]));
+}
+
 // A laterally confined column of three layers under gravity and a top pressure q (the
 // oedometric, 1-D state). Equilibrium d sigma_zz / dz = rho g gives
 //   sigma_zz(z) = -(q + int_z^H rho g ds),  sigma_xx = sigma_yy = nu / (1 - nu) sigma_zz,
