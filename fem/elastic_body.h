@@ -53,7 +53,7 @@ struct NewmarkParameters {
 
 struct SolveReport {
   unsigned int iterations = 0;          // CG iterations (0 for the direct solver)
-  double residual = 0.0;                // final residual norm
+  double residual = 0.0;                // final residual norm (0 for the direct solver)
   double assembly_seconds = 0.0;        // matrices (setup) or load vector (solve)
   double preconditioner_seconds = 0.0;  // AMG setup or direct factorisation
   double solve_seconds = 0.0;

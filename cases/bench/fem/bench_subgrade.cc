@@ -3,7 +3,7 @@
 // (dofs, sparsity, stiffness assembly), the AMG setup, the first solve, and re-solves with the
 // preconditioner reused after load changes, as a coupled run does at every exchange.
 //
-//   mpirun -np P trackbed_fem_bench DOFS DEGREE RESOLVES
+//   mpirun -np P trackbed_fem_bench DOFS DEGREE RESOLVES [TOLERANCE]
 #include <deal.II/base/mpi.h>
 
 #include <chrono>
@@ -20,6 +20,8 @@ int run(int argc, char** argv) {
   const double target_dofs = argc > 1 ? std::atof(argv[1]) : 1e6;
   const unsigned int degree = argc > 2 ? std::atoi(argv[2]) : 1;
   const int resolves = argc > 3 ? std::atoi(argv[3]) : 5;
+  SolverParameters solver;
+  solver.relative_tolerance = argc > 4 ? std::atof(argv[4]) : 1e-8;
   int rank = 0, n_ranks = 1;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &n_ranks);
@@ -53,6 +55,7 @@ int run(int argc, char** argv) {
   for (const char* side : {"ymin", "ymax"})
     body.fix(body.boundary_id(side), {{false, true, false}});
   body.set_boundary_force(body.boundary_id("footprint"), {{0, 0, -1e5}});
+  body.set_solver(solver);
   const double mesh_seconds = lap();
   body.setup();
   const double setup_seconds = lap();
@@ -74,10 +77,11 @@ int run(int argc, char** argv) {
   const double settlement = -body.probe({{{0, 2, 0}}})[0].displacement[2];
   if (rank == 0)
     std::printf(
-        "processes=%d degree=%u dofs=%llu cells=%llu mesh_s=%.2f setup_s=%.2f amg_s=%.2f "
+        "processes=%d degree=%u tolerance=%g dofs=%llu cells=%llu mesh_s=%.2f setup_s=%.2f "
+        "amg_s=%.2f "
         "first_solve_s=%.2f first_iterations=%u resolve_s=%.3f resolve_load_s=%.3f "
         "resolve_solve_s=%.3f resolve_iterations=%.1f settlement_mm=%.4f\n",
-        n_ranks, degree, static_cast<unsigned long long>(body.n_dofs()),
+        n_ranks, degree, solver.relative_tolerance, static_cast<unsigned long long>(body.n_dofs()),
         static_cast<unsigned long long>(body.n_cells()), mesh_seconds, setup_seconds,
         first.preconditioner_seconds, first_seconds - first.preconditioner_seconds,
         first.iterations, resolve_seconds / resolves, resolve_load_seconds / resolves,
