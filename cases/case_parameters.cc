@@ -154,8 +154,10 @@ void declare(ParameterHandler& prm) {
   prm.enter_subsection("output");
   prm.declare_entry("folder", "results/default", Anything(),
                     "Results folder (relative to the working directory)");
-  prm.declare_entry("history interval", "1e-3", Double(0), "s between CSV rows; 0 = none");
-  prm.declare_entry("vtu interval", "0", Double(0), "s between ParaView frames; 0 = last only");
+  prm.declare_entry("history interval", "1e-3", Double(0),
+                    "s between CSV rows; 0 = only the first and last rows");
+  prm.declare_entry("vtu interval", "0", Double(0),
+                    "s between ParaView frames; 0 = only the first and last frames");
   prm.declare_entry("snapshot interval", "0", Double(0), "s between HDF5 snapshots; 0 = last");
   prm.declare_entry("progress interval", "2", Double(0), "Wall seconds between progress lines");
   prm.declare_entry("tracked bodies", "", List(Integer(0)),
@@ -173,7 +175,7 @@ dem::Vec3 vector_of(const ParameterHandler& prm, const std::string& name) {
 std::array<double, 6> six_of(const ParameterHandler& prm, const std::string& name) {
   const auto v =
       dealii::Utilities::string_to_double(dealii::Utilities::split_string_list(prm.get(name)));
-  return {v[0], v[1], v[2], v[3], v[4], v[5]};
+  return {{v[0], v[1], v[2], v[3], v[4], v[5]}};
 }
 
 // "servo -3728 gain 1e-6 max 0.01" and friends.

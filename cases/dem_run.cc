@@ -43,6 +43,16 @@ int material_index(const dem::MaterialTable& table, const std::string& name,
   }
 }
 
+std::string json_escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) c = ' ';
+    out += c;
+  }
+  return out;
+}
+
 std::string hms(double seconds) {
   if (!std::isfinite(seconds) || seconds < 0) return "--:--:--";
   const long s = std::lround(seconds);
@@ -291,13 +301,26 @@ int DemRun::run() {
   std::signal(SIGTERM, on_signal);
   write_history();
   write_frame();
-  const double dt = sim_->time_step();
   next_history_ = prm_.history_interval;
   next_frame_ = prm_.vtu_interval > 0 ? prm_.vtu_interval : INFINITY;
   next_snapshot_ = prm_.snapshot_interval > 0 ? prm_.snapshot_interval : INFINITY;
   loop_start_ = last_progress_ = Clock::now();
   loop_start_step_ = 0;
 
+  try {
+    advance();
+  } catch (const std::exception& e) {
+    // Keep what the run wrote: the histories up to the failure explain it.
+    finish("failed: " + std::string(e.what()));
+    throw;
+  }
+  const bool interrupted = g_signal != 0;
+  finish(interrupted ? "interrupted" : "finished");
+  return interrupted ? 130 : 0;
+}
+
+void DemRun::advance() {
+  const double dt = sim_->time_step();
   while (sim_->step_count() < total_steps_ && g_signal == 0) {
     if (sim_->step_count() == prm_.warmup_steps && prm_.warmup_steps > 0) {
       loop_start_ = Clock::now();
@@ -325,26 +348,29 @@ int DemRun::run() {
   }
   loop_seconds_ = std::chrono::duration<double>(Clock::now() - loop_start_).count();
   sim_->check_finite();
-  const bool interrupted = g_signal != 0;
-  finish(interrupted);
-  return interrupted ? 130 : 0;
 }
 
-void DemRun::finish(bool interrupted) {
+void DemRun::finish(const std::string& status) {
+  const bool finished = status == "finished";
+  if (loop_seconds_ == 0)
+    loop_seconds_ = std::chrono::duration<double>(Clock::now() - loop_start_).count();
   report_progress(true);
   write_history();
-  write_frame();
-  write_snapshot();
+  if (finished || status == "interrupted") {
+    // A blown-up state (NaN) is not worth a frame or a snapshot.
+    write_frame();
+    write_snapshot();
+  }
   series_->walls->commit();
   series_->energy->commit();
   series_->bodies->commit();
-  write_summary(interrupted);
-  if (prm_.plot && !interrupted) make_plot();
-  std::cout << "trackbed: results in " << out_ << (interrupted ? " (interrupted)" : "")
+  write_summary(status);
+  if (prm_.plot && finished) make_plot();
+  std::cout << "trackbed: results in " << out_ << (finished ? "" : " (" + status + ")")
             << std::endl;
 }
 
-void DemRun::write_summary(bool interrupted) {
+void DemRun::write_summary(const std::string& status) {
   const auto& p = sim_->particles();
   const dem::EnergyBudget e = sim_->energy();
   const double wall = std::chrono::duration<double>(Clock::now() - start_).count();
@@ -389,8 +415,8 @@ void DemRun::write_summary(bool interrupted) {
                        "mesh " + m.name + " force " + "xyz"[k], "N", m.contact_force[k]});
 
   dem::AtomicFile json(out_ + "/summary.json");
-  json.stream() << std::setprecision(10) << "{\n  \"case\": \"" << prm_.file
-                << "\",\n  \"status\": \"" << (interrupted ? "interrupted" : "finished") << "\"";
+  json.stream() << std::setprecision(10) << "{\n  \"case\": \"" << json_escape(prm_.file)
+                << "\",\n  \"status\": \"" << json_escape(status) << "\"";
   for (const auto& i : items) {
     json.stream() << ",\n  \"" << i.key << "\": ";
     if (std::isfinite(i.value))
@@ -402,8 +428,7 @@ void DemRun::write_summary(bool interrupted) {
   json.commit();
 
   dem::AtomicFile txt(out_ + "/summary.txt");
-  txt.stream() << "trackbed summary: " << prm_.file << (interrupted ? " (interrupted)" : "")
-               << "\n";
+  txt.stream() << "trackbed summary: " << prm_.file << " (" << status << ")\n";
   for (const auto& i : items)
     txt.stream() << "  " << std::left << std::setw(40) << i.label << std::right << std::setw(16)
                  << std::setprecision(6) << i.value << " " << i.unit << "\n";
@@ -411,10 +436,12 @@ void DemRun::write_summary(bool interrupted) {
 }
 
 void DemRun::make_plot() {
-  // matplotlib draws the plot; a missing python is a warning, not a failed run.
+  // matplotlib draws the plot; a missing python is a warning, not a failed run. Debian's
+  // python3 is the one with python3-matplotlib (a python first on the user's PATH may lack it).
   const fs::path script = fs::path(TRACKBED_SOURCE_DIR) / "cases" / "plot_history.py";
+  const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
   const std::string cmd =
-      "python3 '" + script.string() + "' '" + out_ + "' > '" + out_ + "/plot.log' 2>&1";
+      python + " '" + script.string() + "' '" + out_ + "' > '" + out_ + "/plot.log' 2>&1";
   if (std::system(cmd.c_str()) != 0)
     std::cout << "trackbed: warning: the plot failed (see " << out_ << "/plot.log)" << std::endl;
 }

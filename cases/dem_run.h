@@ -2,7 +2,7 @@
 // progress line, and writes the results folder:
 //   history/walls.csv, history/energy.csv, history/bodies.csv   time series
 //   particles.pvd, contacts.pvd, walls.pvd (+ vtu/)              ParaView
-//   snapshots/state-NNNNNN.h5                                    HDF5 model state
+//   snapshots/state-NNNNNNNNN.h5                                    HDF5 model state
 //   summary.json, summary.txt, plot.png                          what a person opens first
 #pragma once
 
@@ -32,8 +32,9 @@ class DemRun {
   void write_frame();
   void write_snapshot();
   void report_progress(bool last);
-  void finish(bool interrupted);
-  void write_summary(bool interrupted);
+  void advance();  // the time loop with its outputs
+  void finish(const std::string& status);
+  void write_summary(const std::string& status);
   void make_plot();
 
   CaseParameters prm_;

@@ -46,8 +46,8 @@ def main(folder):
     ax1.legend(fontsize=7)
     if energy:
         te = energy["time"]
-        for key in ("kinetic", "strain", "friction", "dashpot", "local_damping", "gravity_work",
-                    "wall_work"):
+        for key in ("kinetic", "strain", "friction", "rolling", "dashpot", "local_damping",
+                    "gravity_work", "wall_work"):
             if any(abs(v) > 0 for v in energy[key]):
                 ax2.plot(te, energy[key], label=key)
         ax2.set_xlabel("time (s)")

@@ -68,7 +68,8 @@ int main(int argc, char** argv) {
         } catch (const std::exception&) {
           prm.threads = -1;
         }
-        if (prm.threads < 1) return fail("--threads " + v + ": valid: an integer >= 1");
+        if (prm.threads < 0)
+          return fail("--threads " + v + ": valid: an integer >= 0 (0: OMP_NUM_THREADS)");
       } else if (a == "--output") {
         prm.output_folder = v;
       } else {

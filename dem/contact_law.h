@@ -76,20 +76,23 @@ inline Vec3 linear_contact(const ContactProperties& p, const ContactKinematics& 
   const double vn = k.v_rel.dot(k.n);
   const double fn = normal_force(p, k, vn);
 
+  // Slip limits use the spring (linear) part of the normal force, F_n^l = k_n overlap, as PFC's
+  // linear and rolling resistance linear models do; the dashpots are PFC's dp_mode 1: the normal
+  // dashpot never makes the total normal force tensile, the shear dashpot acts throughout.
+  const double fn_linear = p.kn * k.overlap;
   rotate_into_plane(shear, k.n);
   const Vec3 vt = k.v_rel - vn * k.n;
   bool slipping;
-  const double slip_work = capped_spring<Energy>(shear, p.ks, vt * dt, p.mu * fn, slipping);
+  const double slip_work = capped_spring<Energy>(shear, p.ks, vt * dt, p.mu * fn_linear, slipping);
   Vec3 force = fn * k.n + shear;
-  // Shear dashpot only while sticking (PFC's default: no viscous force during slip).
   double cs = 0;
-  if (p.shear_damping_ratio > 0 && !slipping) {
+  if (p.shear_damping_ratio > 0) {
     cs = 2 * p.shear_damping_ratio * std::sqrt(k.m_eff * p.ks);
     force -= cs * vt;
   }
   if constexpr (Energy) {
     d.friction += slip_work;
-    d.dashpot += -(fn - p.kn * k.overlap) * vn * dt + cs * vt.squaredNorm() * dt;
+    d.dashpot += -(fn - fn_linear) * vn * dt + cs * vt.squaredNorm() * dt;
   }
 
   if constexpr (Rolling) {
@@ -99,7 +102,8 @@ inline Vec3 linear_contact(const ContactProperties& p, const ContactKinematics& 
       rotate_into_plane(roll, k.n);
       const Vec3 bend = (k.w_rel - k.w_rel.dot(k.n) * k.n) * dt;
       bool rolling_slip;
-      d.rolling += capped_spring<Energy>(roll, kr, bend, p.mu_roll * k.r_eff * fn, rolling_slip);
+      d.rolling +=
+          capped_spring<Energy>(roll, kr, bend, p.mu_roll * k.r_eff * fn_linear, rolling_slip);
       roll_moment = roll;
     }
   }

@@ -77,6 +77,8 @@ void MaterialTable::set_pair(int a, int b, const ContactProperties& p) {
   check_range(where + "normal damping ratio", p.normal_damping_ratio, 0, 1);
   check_range(where + "shear damping ratio", p.shear_damping_ratio, 0, 1);
   check_range(where + "normal damping rate", p.normal_damping_rate, 0, 1e9);
+  if (p.normal_damping_ratio > 0 && p.normal_damping_rate > 0)
+    throw InputError(where + "normal damping ratio and rate are both set; give one of them");
   const int n = size();
   pairs_[a * n + b] = pairs_[b * n + a] = p;
   explicit_[a * n + b] = explicit_[b * n + a] = true;
@@ -96,6 +98,17 @@ bool MaterialTable::any_rolling() const {
 bool MaterialTable::any_dashpots() const {
   return std::any_of(pairs_.begin(), pairs_.end(), [](auto& p) { return p.has_dashpots(); });
 }
+void MaterialTable::validate() const {
+  for (int a = 0; a < size(); ++a)
+    for (int b = a; b < size(); ++b) {
+      const ContactProperties& p = pair(a, b);
+      if (p.normal_damping_ratio > 0 && p.normal_damping_rate > 0)
+        throw InputError("contact " + materials_[a].name + "-" + materials_[b].name +
+                         ": one material gives a normal damping ratio, the other a normal "
+                         "damping rate; valid: one form, or an explicit value in 'contact pairs'");
+    }
+}
+
 double MaterialTable::max_stiffness() const {
   double k = 0;
   for (const auto& p : pairs_) k = std::max({k, p.kn, p.ks});

@@ -51,6 +51,9 @@ class MaterialTable {
   bool any_rolling() const;
   bool any_dashpots() const;
   double max_stiffness() const;
+  // Throws InputError for a pair whose normal dashpot got both forms (a material with a ratio
+  // meeting one with a rate, and no explicit pair value).
+  void validate() const;
 
  private:
   void rebuild_defaults();

@@ -53,16 +53,16 @@ void CellGrid::cell_of(const Vec3& x, int& ix, int& iy, int& iz) const {
   iz = clampi((x.z() - lower_.z()) * inv_cell_, nz_);
 }
 
-void NeighborList::build(const Particles& p, double skin) {
+void NeighborList::build(const Particles& p, double skin, bool parallel) {
   const int n = p.num_elements();
   CellGrid grid;
   grid.build(p.pos, 2 * p.max_element_radius() + skin);
 
   offsets.assign(n + 1, 0);
-  const int nthreads = omp_get_max_threads();
+  const int nthreads = parallel ? omp_get_max_threads() : 1;
   std::vector<std::vector<int>> chunk(nthreads);
 
-#pragma omp parallel
+#pragma omp parallel if (parallel)
   {
     // Static contiguous chunks of i: concatenating the chunks in thread order gives CSR by i.
     std::vector<int>& mine = chunk[omp_get_thread_num()];

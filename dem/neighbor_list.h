@@ -15,7 +15,8 @@ namespace trackbed::dem {
 
 class NeighborList {
  public:
-  void build(const Particles& p, double skin);
+  // With `parallel` false the build runs on the calling thread only.
+  void build(const Particles& p, double skin, bool parallel = true);
 
   int num_pairs() const { return static_cast<int>(partners.size()); }
   // The index of pair (i, j) in `partners`, or -1. Binary search; for tests and remapping.

@@ -115,9 +115,9 @@ void Particles::sort_spatially(double cell) {
     for (int e = first_element[b]; e < first_element[b + 1]; ++e) body[e] = b;
 }
 
-void Particles::update_element_positions() {
+void Particles::update_element_positions(bool parallel) {
   const int nb = num_bodies();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (parallel)
   for (int b = 0; b < nb; ++b) {
     const int e0 = first_element[b], e1 = first_element[b + 1];
     if (!is_clump[b]) {

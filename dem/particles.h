@@ -53,7 +53,7 @@ struct Particles {
   // mostly from cache. Ids are kept; only indices change.
   void sort_spatially(double cell);
   // Recomputes element world positions from the body state.
-  void update_element_positions();
+  void update_element_positions(bool parallel = true);
   // World-frame inertia tensor of body b and its inverse.
   Mat3 world_inertia(int b) const;
   Mat3 world_inverse_inertia(int b) const;

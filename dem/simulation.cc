@@ -65,6 +65,7 @@ Simulation::Simulation(MaterialTable materials, Particles particles, SimulationS
       settings_(settings),
       pair_history_(std::make_unique<PairHistory>()),
       scratch_(std::make_unique<std::vector<ThreadScratch>>()) {
+  materials_.validate();
   check_range("simulation: time step", settings_.time_step, 0.0, 1.0);
   check_range("simulation: critical timestep fraction", settings_.critical_fraction, 1e-6, 1.0);
   check_range("simulation: verlet skin", settings_.skin, 0.0, 1e3);
@@ -96,6 +97,7 @@ int Simulation::add_mesh_body(MeshBody body) {
 // Set-up and contact detection
 
 void Simulation::setup() {
+  parallel_ = p_.num_elements() >= settings_.parallel_threshold;
   // Neighbours in space become neighbours in memory before any index is handed out.
   if (settings_.spatial_sort) p_.sort_spatially(2 * p_.max_element_radius() + settings_.skin);
   for (int b = 0; b < p_.num_bodies(); ++b)
@@ -120,7 +122,7 @@ void Simulation::rebuild() {
   // Keep the old list and history to carry the springs of surviving pairs over.
   NeighborList old_list = std::move(list_);
   PairHistory old = std::move(*pair_history_);
-  list_.build(p_, skin);
+  list_.build(p_, skin, parallel_);
   const int npairs = list_.num_pairs();
   PairHistory& h = *pair_history_;
   const bool rolling = materials_.any_rolling();
@@ -129,7 +131,7 @@ void Simulation::rebuild() {
   h.fn.assign(npairs, 0.0);
   if (!old_list.offsets.empty()) {
     const int n = p_.num_elements();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (parallel_)
     for (int i = 0; i < n; ++i) {
       // Both lists are sorted by partner: a merge walk finds the survivors.
       int a = old_list.offsets[i], b = list_.offsets[i];
@@ -210,12 +212,13 @@ bool Simulation::needs_rebuild() const {
   const double limit = half * half;
   const int n = p_.num_elements();
   int moved = 0;
-#pragma omp parallel for schedule(static) reduction(max : moved)
+#pragma omp parallel for schedule(static) reduction(max : moved) if (parallel_)
   for (int e = 0; e < n; ++e)
     if ((p_.pos[e] - pos_at_build_[e]).squaredNorm() > limit) moved = 1;
   if (moved) return true;
   for (std::size_t w = 0; w < planes_.size(); ++w)
-    if ((planes_[w].point - plane_point_at_build_[w]).dot(planes_[w].normal) < -half) return true;
+    if (std::abs((planes_[w].point - plane_point_at_build_[w]).dot(planes_[w].normal)) > half)
+      return true;
   for (std::size_t m = 0; m < meshes_.size(); ++m) {
     const MeshBody& b = meshes_[m];
     // A bound on any vertex's displacement: translation plus rotation angle times reach.
@@ -284,7 +287,7 @@ void Simulation::pair_forces() {
   const int nmat = materials_.size();
   const ContactProperties* props = &materials_.pair(0, 0);
 
-#pragma omp parallel
+#pragma omp parallel if (parallel_)
   {
     ThreadScratch& s = (*scratch_)[omp_get_thread_num()];
     Vec3* F = omp_get_thread_num() == 0 ? p_.f.data() : s.f.data();
@@ -354,7 +357,7 @@ template <bool Rolling, bool Energy>
 void Simulation::plane_forces() {
   const double dt = settings_.time_step;
   const int nplanes = static_cast<int>(planes_.size());
-#pragma omp parallel
+#pragma omp parallel if (parallel_)
   {
     ThreadScratch& s = (*scratch_)[omp_get_thread_num()];
     Vec3* F = omp_get_thread_num() == 0 ? p_.f.data() : s.f.data();
@@ -411,7 +414,7 @@ void Simulation::mesh_forces() {
   const double dt = settings_.time_step;
   constexpr int S = WallHistory::kSlots;
   const int nplanes = static_cast<int>(planes_.size());
-#pragma omp parallel
+#pragma omp parallel if (parallel_)
   {
     ThreadScratch& s = (*scratch_)[omp_get_thread_num()];
     Vec3* F = omp_get_thread_num() == 0 ? p_.f.data() : s.f.data();
@@ -493,11 +496,11 @@ void Simulation::mesh_forces() {
 }
 
 void Simulation::compute_forces() {
-  const int nthreads = omp_get_max_threads();
+  const int nthreads = team_size();
   const int nb = p_.num_bodies();
   const std::size_t nwalls = planes_.size() + meshes_.size();
   scratch_->resize(nthreads);
-#pragma omp parallel
+#pragma omp parallel if (parallel_)
   {
     const int tid = omp_get_thread_num();
     ThreadScratch& s = (*scratch_)[tid];
@@ -543,7 +546,7 @@ void Simulation::reduce_thread_forces() {
   const int nthreads = static_cast<int>(scratch.size());
   const int nb = p_.num_bodies();
   if (nthreads > 1) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (parallel_)
     for (int b = 0; b < nb; ++b)
       for (int t = 1; t < nthreads; ++t) {
         p_.f[b] += scratch[t].f[b];
@@ -614,9 +617,11 @@ void Simulation::apply_body_loads_and_integrate() {
   const int nb = p_.num_bodies();
   const double dt = settings_.time_step;
   const Vec3 g = settings_.gravity;
-  double local = 0, gravity_work = 0;
-#pragma omp parallel for schedule(static) reduction(+ : local, gravity_work)
+  // Per-thread partial sums added in thread order: the tallies are reproducible bit for bit.
+  std::vector<double> local(team_size(), 0.0), gravity_work(local.size(), 0.0);
+#pragma omp parallel for schedule(static) if (parallel_)
   for (int b = 0; b < nb; ++b) {
+    const int tid = omp_get_thread_num();
     const double m = p_.mass[b];
     const double alpha = materials_[p_.body_material[b]].local_damping;
     Vec3 F = p_.f[b] + m * g;
@@ -635,7 +640,7 @@ void Simulation::apply_body_loads_and_integrate() {
     p_.v[b] += F * (dt / m);
     const Vec3 dx = p_.v[b] * dt;
     p_.x[b] += dx;
-    gravity_work += m * g.dot(dx);
+    gravity_work[tid] += m * g.dot(dx);
     if (p_.is_clump[b]) {
       p_.L[b] += M * dt;
       free_rotation(p_.q[b], p_.L[b], p_.inertia[b], dt);
@@ -643,10 +648,12 @@ void Simulation::apply_body_loads_and_integrate() {
     } else {
       p_.w[b] += M * (dt / p_.inertia[b][0]);
     }
-    local -= Fd.dot(dx) + Md.dot(p_.w[b]) * dt;
+    local[tid] -= Fd.dot(dx) + Md.dot(p_.w[b]) * dt;
   }
-  tally_.local_damping += local;
-  tally_.gravity_work += gravity_work;
+  for (std::size_t t = 0; t < local.size(); ++t) {
+    tally_.local_damping += local[t];
+    tally_.gravity_work += gravity_work[t];
+  }
 }
 
 void Simulation::move_walls() {
@@ -668,7 +675,7 @@ void Simulation::step() {
   compute_forces();
   apply_body_loads_and_integrate();
   move_walls();
-  p_.update_element_positions();
+  p_.update_element_positions(parallel_);
   time_ += settings_.time_step;
   ++steps_;
   if (needs_rebuild()) rebuild();
@@ -678,15 +685,19 @@ void Simulation::step() {
 // Diagnostics
 
 double Simulation::critical_timestep() const {
-  // Stiffness per body and DOF: translation k_a = sum_c [k_n n_a^2 + k_s (1 - n_a^2)], rotation
-  // k_rot = sum_c (k_s |lever x e_a|^2 + k_n |lever x n . e_a|^2) + k_roll; PFC takes sqrt(m/k).
+  // Stiffness per body and DOF, summed over its contacts with K = k_n n n^T + k_s (I - n n^T):
+  // translation along e_a: e_a^T K e_a; rotation about e_a: u^T K u with u = e_a x lever (the
+  // contact point's displacement per unit rotation), plus the rolling stiffness k_s R_eff^2.
+  // PFC takes sqrt(m / k) and sqrt(I / k_rot), the smallest over bodies and DOFs.
   const int nb = p_.num_bodies();
   std::vector<Vec3> kt(nb, Vec3::Zero()), kr(nb, Vec3::Zero());
   auto add = [&](int b, const ContactProperties& pr, const Vec3& n, const Vec3& lever, double r) {
     for (int a = 0; a < 3; ++a) {
       kt[b][a] += pr.kn * n[a] * n[a] + pr.ks * (1 - n[a] * n[a]);
-      const Vec3 arm = lever.cross(Vec3::Unit(a));
-      kr[b][a] += pr.ks * arm.squaredNorm() + (pr.has_rolling() ? pr.ks * r * r : 0.0);
+      const Vec3 u = Vec3::Unit(a).cross(lever);
+      const double un = u.dot(n);
+      kr[b][a] += pr.kn * un * un + pr.ks * (u.squaredNorm() - un * un) +
+                  (pr.has_rolling() ? pr.ks * r * r : 0.0);
     }
   };
   for (int i = 0; i < p_.num_elements(); ++i)
@@ -707,6 +718,18 @@ double Simulation::critical_timestep() const {
       add(p_.body[e], pr, planes_[w].normal,
           p_.pos[e] - planes_[w].normal * p_.radius[e] - p_.x[p_.body[e]], p_.radius[e]);
     }
+  constexpr int S = WallHistory::kSlots;
+  for (std::size_t m = 0; m < meshes_.size(); ++m) {
+    const WallHistory& wh = plane_history_[planes_.size() + m];
+    for (std::size_t c = 0; c < wh.element.size(); ++c)
+      for (int a = 0; a < S; ++a) {
+        if (wh.fn[c * S + a] <= 0) continue;
+        const int e = wh.element[c];
+        const Vec3& n = wh.normal[c * S + a];
+        const ContactProperties& pr = materials_.pair(meshes_[m].material, p_.material[e]);
+        add(p_.body[e], pr, n, p_.pos[e] - n * p_.radius[e] - p_.x[p_.body[e]], p_.radius[e]);
+      }
+  }
   double dt = std::numeric_limits<double>::infinity();
   for (int b = 0; b < nb; ++b) {
     if (kt[b].maxCoeff() == 0) {

@@ -9,6 +9,8 @@
 // half steps, positions at full steps. See docs/theory.md.
 #pragma once
 
+#include <omp.h>
+
 #include <functional>
 #include <memory>
 #include <string>
@@ -33,6 +35,10 @@ struct SimulationSettings {
   double initial_overlap_ratio = 0.05;  // setup: tolerated overlap as a fraction of the radius
   bool allow_supercritical_step = false;
   bool spatial_sort = true;  // reorder bodies along a Morton curve at setup (cache locality)
+  // Models with fewer sphere elements run on one thread: their steps are too short to pay for
+  // the ~10 thread barriers of a step, and on a loaded machine each barrier can cost a whole
+  // scheduler time slice.
+  int parallel_threshold = 4000;
 };
 
 // Energy bookkeeping (J). With no numerical error
@@ -93,7 +99,7 @@ class Simulation {
   // Checks the state for NaN; throws a std::runtime_error naming the first bad body.
   void check_finite() const;
 
-  // Restores the contact history and clock (checkpoints).
+  // Sets the clock (a snapshot being read back; contact springs are not part of a snapshot).
   void set_time(double t, long steps) { time_ = t, steps_ = steps; }
 
  private:
@@ -134,6 +140,8 @@ class Simulation {
   long steps_ = 0;
   int builds_ = 0;
   bool ready_ = false;
+  bool parallel_ = true;  // OpenMP team for this model (see parallel_threshold)
+  int team_size() const { return parallel_ ? omp_get_max_threads() : 1; }
   EnergyBudget tally_;  // dissipation and work terms accumulated so far
 };
 

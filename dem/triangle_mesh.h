@@ -165,7 +165,7 @@ class TriangleGrid {
  private:
   Vec3 origin_ = Vec3::Zero();
   double cell_ = 0.0;
-  std::array<int, 3> dims_ = {0, 0, 0};
+  std::array<int, 3> dims_{{0, 0, 0}};
   std::vector<int> cell_offsets_;  // CSR: triangles of cell c in items_[offsets[c], offsets[c+1])
   std::vector<int> items_;
   std::vector<Vec3> box_lower_;  // triangle bounding boxes at build time

@@ -28,14 +28,14 @@ struct VtuGrid {
   void write(const std::string& path) const;  // atomic (temporary name, then rename)
 };
 
-// Spheres as points (radius, velocity, angular velocity, body, material, clump flag, displacement
-// from `reference` if given, one entry per element).
+// Spheres as points (radius, velocity, angular velocity, body, id, material, clump flag,
+// displacement from `reference` if given, one entry per element).
 VtuGrid particles_grid(const Simulation& sim, const std::vector<Vec3>* reference = nullptr);
 // Force chains: one line per active contact from centre to centre (or to the wall contact
 // point), with the contact force vector and its magnitude.
 VtuGrid contacts_grid(const Simulation& sim);
-// Walls: meshes as triangles; planes as squares of half-width `plane_extent` around the point
-// nearest the particles' centre, with the wall force as cell data.
+// Walls: meshes as triangles; planes as squares around the point nearest the particles' centre,
+// half as wide as the particles' bounding-box diagonal plus 0.1 m; the wall force as cell data.
 VtuGrid walls_grid(const Simulation& sim);
 
 // Appends (time, file) entries to a .pvd collection, rewriting it atomically each time.

@@ -14,7 +14,7 @@ namespace {
 
 // 120 bodies (half clumps) dropped into a box whose one side wall moves inwards: every energy
 // term is exercised (friction, rolling, dashpots, local damping, gravity, wall work).
-std::unique_ptr<Simulation> mixed_box(double local_damping) {
+std::unique_ptr<Simulation> mixed_box(double local_damping, double dt = 1e-5) {
   Material m;
   m.name = "ballast";
   m.normal_stiffness = m.shear_stiffness = 4e6;
@@ -39,7 +39,8 @@ std::unique_ptr<Simulation> mixed_box(double local_damping) {
   spec.seed = 11;
   add_random_packing(spec, t, p);
   SimulationSettings s;
-  s.time_step = 1e-5;
+  s.time_step = dt;
+  s.parallel_threshold = 0;  // threads even for this small model (the determinism test)
   auto sim = std::make_unique<Simulation>(std::move(t), std::move(p), s);
   sim->add_plane(testing::floor_at(0));
   for (auto [x, n] : {std::pair{0.0, 1.0}, {0.2, -1.0}}) {
@@ -58,22 +59,39 @@ std::unique_ptr<Simulation> mixed_box(double local_damping) {
   return sim;
 }
 
-TEST(EnergyBalance, ClosesToOnePercent) {
-  for (double alpha : {0.0, 0.7}) {
-    auto sim = mixed_box(alpha);
-    sim->setup();
-    const EnergyBudget e0 = sim->energy();
-    double worst = 0;
-    for (int block = 0; block < 30; ++block) {
-      testing::run_for(*sim, 0.01);
-      const EnergyBudget e = sim->energy();
-      // Relative to the energy that entered the system (work of gravity and the wall).
-      const double scale = std::abs(e.gravity_work) + std::abs(e.wall_work);
-      worst = std::max(worst, std::abs(e.total() - e0.total()) / scale);
-    }
-    EXPECT_LT(worst, 0.01) << "local damping " << alpha;
+// Worst relative balance error over 0.3 s, relative to the energy that entered the system (work
+// of gravity and of the moving wall).
+double worst_balance_error(double alpha, double dt, EnergyBudget* last = nullptr) {
+  auto sim = mixed_box(alpha, dt);
+  sim->setup();
+  const EnergyBudget e0 = sim->energy();
+  double worst = 0;
+  for (int block = 0; block < 30; ++block) {
+    testing::run_for(*sim, 0.01);
     const EnergyBudget e = sim->energy();
+    const double scale = std::abs(e.gravity_work) + std::abs(e.wall_work);
+    worst = std::max(worst, std::abs(e.total() - e0.total()) / scale);
+  }
+  if (last) *last = sim->energy();
+  return worst;
+}
+
+TEST(EnergyBalance, ClosesToOnePercentAndConvergesWithTheStep) {
+  // The dissipation of dashpots and slip is tallied with the velocities the forces were computed
+  // from (mid-step), the kinetic energy with the leapfrog velocities: the balance is first order
+  // in dt (measured without local damping: 1.4 % at 1e-5 s, 0.69 % at 5e-6 s, 0.34 % at
+  // 2.5e-6 s). The test asks for the 1 % closure and for that first-order convergence: halving
+  // the step must halve the error (ratio 1.6-2.4), which a missing or double-counted term would
+  // not do.
+  for (double alpha : {0.0, 0.7}) {
+    EnergyBudget e;
+    const double coarse = worst_balance_error(alpha, 5e-6);
+    const double fine = worst_balance_error(alpha, 2.5e-6, &e);
+    EXPECT_LT(coarse, 0.01) << "local damping " << alpha;
+    EXPECT_GT(coarse / fine, 1.6) << "local damping " << alpha;
+    EXPECT_LT(coarse / fine, 2.4) << "local damping " << alpha;
     EXPECT_GT(e.friction, 0);
+    EXPECT_GT(e.rolling, 0);
     EXPECT_GT(e.dashpot, 0);
     EXPECT_GT(std::abs(e.wall_work), 0);
     if (alpha > 0) EXPECT_GT(e.local_damping, 0);

@@ -96,7 +96,7 @@ TEST(NormalImpact, SphereSphereDurationAndOverlap) {
 
 TEST(NormalImpact, RestitutionFromDashpotRatio) {
   // Linear spring-dashpot with a non-tensile force: the contact ends when the force, not the
-  // overlap, returns to zero (Schwager and Poeschel, Phys. Rev. E 78, 051304, 2008):
+  // overlap, returns to zero (Schwager and Poeschel, Granular Matter 9, 465, 2007):
   //   t_end = (pi - atan(2 b w / (w0 (1 - 2 b^2)) ... )) / w,  e = -d'(t_end) / v0
   // with delta(t) = v0/w exp(-b w0 t) sin(w t), w = w0 sqrt(1 - b^2). Evaluated here directly.
   const double m = ball_mass(), w0 = std::sqrt(kK / m);
