@@ -20,7 +20,7 @@ std::string temporary_file(const std::string& name, const std::string& content) 
   return path;
 }
 
-// A 1 m x 1 m column of two hexahedra in Gmsh 2.2 format: subgrade (volume group 2) below
+// A 1 m x 1 m x 2 m column of two hexahedra in Gmsh 2.2 format: subgrade (volume group 2) below
 // sub-ballast (volume group 1), surface groups "bottom" (10) and "top" (11); the sides have no
 // group, so deal.II gives them boundary id 0.
 std::string column_msh() {
@@ -44,6 +44,37 @@ std::string column_msh() {
          "$EndElements\n";
 }
 
+// The same column in Gmsh 4.1 format: entities carry the physical tags (surface 1 = bottom,
+// surface 2 = top, volume 1 = subgrade, volume 2 = sub-ballast).
+std::string column_msh41() {
+  std::string coordinates;
+  for (int iz = 0; iz < 3; ++iz)
+    for (int iy = 0; iy < 2; ++iy)
+      for (int ix = 0; ix < 2; ++ix)
+        coordinates +=
+            std::to_string(ix) + " " + std::to_string(iy) + " " + std::to_string(iz) + "\n";
+  std::string tags;
+  for (int i = 1; i <= 12; ++i) tags += std::to_string(i) + "\n";
+  return "$MeshFormat\n4.1 0 8\n$EndMeshFormat\n"
+         "$PhysicalNames\n4\n2 10 \"bottom\"\n2 11 \"top\"\n3 1 \"sub_ballast\"\n"
+         "3 2 \"subgrade\"\n$EndPhysicalNames\n"
+         "$Entities\n0 0 2 2\n"
+         "1 0 0 0 1 1 0 1 10 0\n"
+         "2 0 0 2 1 1 2 1 11 0\n"
+         "1 0 0 0 1 1 1 1 2 0\n"
+         "2 0 0 1 1 1 2 1 1 0\n"
+         "$EndEntities\n"
+         "$Nodes\n1 12 1 12\n3 1 0 12\n" +
+         tags + coordinates +
+         "$EndNodes\n"
+         "$Elements\n4 4 1 4\n"
+         "2 1 3 1\n1 1 3 4 2\n"
+         "2 2 3 1\n2 9 10 12 11\n"
+         "3 1 5 1\n3 1 2 4 3 5 6 8 7\n"
+         "3 2 5 1\n4 5 6 8 7 9 10 12 11\n"
+         "$EndElements\n";
+}
+
 // Runs `action`, expects an error of type E whose one-line message contains every fragment.
 template <typename E>
 void expect_error(const std::function<void()>& action, const std::vector<std::string>& fragments) {
@@ -58,12 +89,15 @@ void expect_error(const std::function<void()>& action, const std::vector<std::st
   }
 }
 
-// The column read from Gmsh, laterally confined (both horizontal components fixed on the
-// unnamed sides, id 0), fixed at the bottom and pressed by q at the top: the 1-D solution
-// u_z(top) = -q (1 / M_subgrade + 1 / M_sub-ballast) x 1 m, linear per layer, which Q1 gets
-// exactly (solver tolerance 1e-12; test tolerance 1e-9 relative).
-TEST(FemInput, GmshColumnWithPhysicalGroups) {
-  const std::string file = temporary_file("column.msh", column_msh());
+// The column read from Gmsh (format 2.2 and 4.1), laterally confined (both horizontal components
+// fixed on the unnamed sides, id 0), fixed at the bottom and pressed by q at the top: the 1-D
+// solution u_z(top) = -q (1 / M_subgrade + 1 / M_sub-ballast) x 1 m, linear per layer, which Q1
+// gets exactly (solver tolerance 1e-12; test tolerance 1e-9 relative).
+class FemGmsh : public ::testing::TestWithParam<int> {};
+
+TEST_P(FemGmsh, ColumnWithPhysicalGroups) {
+  const std::string file = GetParam() == 2 ? temporary_file("column.msh", column_msh())
+                                           : temporary_file("column41.msh", column_msh41());
   ElasticBody body(1, MPI_COMM_WORLD);
   body.read_gmsh(file);
   body.refine_globally(1);
@@ -86,6 +120,8 @@ TEST(FemInput, GmshColumnWithPhysicalGroups) {
   EXPECT_NEAR(top[1].stress[2][2], -q, 1e-9 * q);
   std::remove(file.c_str());
 }
+
+INSTANTIATE_TEST_SUITE_P(Formats, FemGmsh, ::testing::Values(2, 4));
 
 TEST(FemInput, MissingMeshFile) {
   ElasticBody body(1, MPI_COMM_WORLD);
