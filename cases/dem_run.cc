@@ -174,7 +174,8 @@ void DemRun::open_outputs() {
     for (const char* c : {"x", "y", "z", "fx", "fy", "fz", "mx", "my", "mz"})
       w << "," << m.name << "_" << c;
     for (const auto& part : m.local.part_names)
-      for (const char* c : {"fx", "fy", "fz"}) w << "," << m.name << "." << part << "_" << c;
+      for (const char* c : {"fx", "fy", "fz", "mx", "my", "mz"})
+        w << "," << m.name << "." << part << "_" << c;
   }
   w << "\n";
   series_->energy->stream() << "time,kinetic,strain,friction,rolling,dashpot,local_damping,"
@@ -197,7 +198,9 @@ void DemRun::write_history() {
   for (const auto& m : sim_->meshes()) {
     for (const Vec3* v : {&m.x, &m.contact_force, &m.contact_moment})
       w << "," << v->x() << "," << v->y() << "," << v->z();
-    for (const auto& f : m.part_force) w << "," << f.x() << "," << f.y() << "," << f.z();
+    for (std::size_t k = 0; k < m.part_force.size(); ++k)
+      for (const dem::Vec3* v : {&m.part_force[k], &m.part_moment[k]})
+        w << "," << v->x() << "," << v->y() << "," << v->z();
   }
   w << "\n";
 
