@@ -95,9 +95,6 @@ int MaterialTable::index_of(const std::string& name) const {
 bool MaterialTable::any_rolling() const {
   return std::any_of(pairs_.begin(), pairs_.end(), [](auto& p) { return p.has_rolling(); });
 }
-bool MaterialTable::any_dashpots() const {
-  return std::any_of(pairs_.begin(), pairs_.end(), [](auto& p) { return p.has_dashpots(); });
-}
 void MaterialTable::validate() const {
   for (int a = 0; a < size(); ++a)
     for (int b = a; b < size(); ++b) {
@@ -109,10 +106,5 @@ void MaterialTable::validate() const {
     }
 }
 
-double MaterialTable::max_stiffness() const {
-  double k = 0;
-  for (const auto& p : pairs_) k = std::max({k, p.kn, p.ks});
-  return k;
-}
 
 }  // namespace trackbed::dem

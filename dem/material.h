@@ -31,9 +31,6 @@ struct ContactProperties {
   double kn = 0, ks = 0, mu = 0, mu_roll = 0;
   double normal_damping_ratio = 0, shear_damping_ratio = 0, normal_damping_rate = 0;
   bool has_rolling() const { return mu_roll > 0; }
-  bool has_dashpots() const {
-    return normal_damping_ratio > 0 || shear_damping_ratio > 0 || normal_damping_rate > 0;
-  }
 };
 
 class MaterialTable {
@@ -49,8 +46,6 @@ class MaterialTable {
   int size() const { return static_cast<int>(materials_.size()); }
   const ContactProperties& pair(int a, int b) const { return pairs_[a * size() + b]; }
   bool any_rolling() const;
-  bool any_dashpots() const;
-  double max_stiffness() const;
   // Throws InputError for a pair whose normal dashpot got both forms (a material with a ratio
   // meeting one with a rate, and no explicit pair value).
   void validate() const;

@@ -134,10 +134,6 @@ Mat3 Particles::world_inertia(int b) const {
   return R * inertia[b].asDiagonal() * R.transpose();
 }
 
-Mat3 Particles::world_inverse_inertia(int b) const {
-  const Mat3 R = q[b].toRotationMatrix();
-  return R * inertia[b].cwiseInverse().asDiagonal() * R.transpose();
-}
 
 double Particles::kinetic_energy() const {
   double e = 0;
@@ -151,9 +147,6 @@ double Particles::kinetic_energy() const {
 
 double Particles::max_element_radius() const {
   return radius.empty() ? 0.0 : *std::max_element(radius.begin(), radius.end());
-}
-double Particles::min_element_radius() const {
-  return radius.empty() ? 0.0 : *std::min_element(radius.begin(), radius.end());
 }
 
 }  // namespace trackbed::dem

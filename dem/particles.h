@@ -54,12 +54,10 @@ struct Particles {
   void sort_spatially(double cell);
   // Recomputes element world positions from the body state.
   void update_element_positions(bool parallel = true);
-  // World-frame inertia tensor of body b and its inverse.
+  // World-frame inertia tensor of body b.
   Mat3 world_inertia(int b) const;
-  Mat3 world_inverse_inertia(int b) const;
   double kinetic_energy() const;
   double max_element_radius() const;
-  double min_element_radius() const;
 
  private:
   int add_body(const Vec3& centre, const Quat& q, double m, const Vec3& I, int mat, bool clump,
