@@ -81,8 +81,6 @@ struct Energies {
   double strain = 0.0;   // u^T K u / 2, J
 };
 
-class BoundaryInterface;
-
 class ElasticBody {
  public:
   // degree: 1 or 2. Every process of `communicator` takes part in every call below.
