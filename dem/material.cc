@@ -15,23 +15,34 @@ void check_range(const std::string& what, double v, double lo, double hi) {
   throw InputError(s.str());
 }
 
+namespace {
+
+// The checks shared by a material's entity values and an explicit pair's values.
+void check_contact_values(const std::string& where, double kn, double ks, double mu, double mu_roll,
+                          double ratio_n, double ratio_s, double rate_n) {
+  check_range(where + "normal stiffness", kn, 1e-12, 1e15);
+  check_range(where + "shear stiffness", ks, 0, 1e15);
+  check_range(where + "friction", mu, 0, 100);
+  check_range(where + "rolling friction", mu_roll, 0, 100);
+  check_range(where + "normal damping ratio", ratio_n, 0, 1);
+  check_range(where + "shear damping ratio", ratio_s, 0, 1);
+  check_range(where + "normal damping rate", rate_n, 0, 1e9);
+  if (ratio_n > 0 && rate_n > 0)
+    throw InputError(where +
+                     "normal damping ratio and normal damping rate are both set; give one of them");
+}
+
+}  // namespace
+
 int MaterialTable::add(const Material& m) {
   const std::string where = "material '" + m.name + "': ";
   if (m.name.empty()) throw InputError("material name is empty; give every material a name");
   for (const auto& other : materials_)
     if (other.name == m.name) throw InputError(where + "defined twice; names must be unique");
   check_range(where + "density", m.density, 1e-12, 1e6);
-  check_range(where + "normal stiffness", m.normal_stiffness, 1e-12, 1e15);
-  check_range(where + "shear stiffness", m.shear_stiffness, 0, 1e15);
-  check_range(where + "friction", m.friction, 0, 100);
-  check_range(where + "rolling friction", m.rolling_friction, 0, 100);
-  check_range(where + "normal damping ratio", m.normal_damping_ratio, 0, 1);
-  check_range(where + "shear damping ratio", m.shear_damping_ratio, 0, 1);
-  check_range(where + "normal damping rate", m.normal_damping_rate, 0, 1e9);
+  check_contact_values(where, m.normal_stiffness, m.shear_stiffness, m.friction, m.rolling_friction,
+                       m.normal_damping_ratio, m.shear_damping_ratio, m.normal_damping_rate);
   check_range(where + "local damping", m.local_damping, 0, 0.999);
-  if (m.normal_damping_ratio > 0 && m.normal_damping_rate > 0)
-    throw InputError(where +
-                     "normal damping ratio and normal damping rate are both set; give one of them");
   materials_.push_back(m);
   rebuild_defaults();
   return size() - 1;
@@ -70,15 +81,8 @@ void MaterialTable::rebuild_defaults() {
 
 void MaterialTable::set_pair(int a, int b, const ContactProperties& p) {
   const std::string where = "contact pair " + materials_[a].name + "-" + materials_[b].name + ": ";
-  check_range(where + "normal stiffness", p.kn, 1e-12, 1e15);
-  check_range(where + "shear stiffness", p.ks, 0, 1e15);
-  check_range(where + "friction", p.mu, 0, 100);
-  check_range(where + "rolling friction", p.mu_roll, 0, 100);
-  check_range(where + "normal damping ratio", p.normal_damping_ratio, 0, 1);
-  check_range(where + "shear damping ratio", p.shear_damping_ratio, 0, 1);
-  check_range(where + "normal damping rate", p.normal_damping_rate, 0, 1e9);
-  if (p.normal_damping_ratio > 0 && p.normal_damping_rate > 0)
-    throw InputError(where + "normal damping ratio and rate are both set; give one of them");
+  check_contact_values(where, p.kn, p.ks, p.mu, p.mu_roll, p.normal_damping_ratio,
+                       p.shear_damping_ratio, p.normal_damping_rate);
   const int n = size();
   pairs_[a * n + b] = pairs_[b * n + a] = p;
   explicit_[a * n + b] = explicit_[b * n + a] = true;
@@ -105,6 +109,5 @@ void MaterialTable::validate() const {
                          "damping rate; valid: one form, or an explicit value in 'contact pairs'");
     }
 }
-
 
 }  // namespace trackbed::dem

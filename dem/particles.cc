@@ -134,7 +134,6 @@ Mat3 Particles::world_inertia(int b) const {
   return R * inertia[b].asDiagonal() * R.transpose();
 }
 
-
 double Particles::kinetic_energy() const {
   double e = 0;
   for (int b = 0; b < num_bodies(); ++b) {

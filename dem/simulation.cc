@@ -33,6 +33,7 @@ struct Simulation::WallHistory {
 
 // Per-thread force accumulators (thread 0 writes the real arrays).
 struct Simulation::ThreadScratch {
+  // Thread 0 accumulates into the particles' own force and moment arrays, the others into these.
   std::vector<Vec3> f, t;
   std::vector<Vec3> wall_f, wall_t;               // per plane, then per mesh body
   std::vector<Vec3> wall_k, wall_kr;              // contact stiffness along each DOF
@@ -290,8 +291,7 @@ void Simulation::pair_forces() {
 #pragma omp parallel if (parallel_)
   {
     ThreadScratch& s = (*scratch_)[omp_get_thread_num()];
-    Vec3* F = omp_get_thread_num() == 0 ? p_.f.data() : s.f.data();
-    Vec3* T = omp_get_thread_num() == 0 ? p_.t.data() : s.t.data();
+    auto [F, T] = body_load_arrays(s);
     Dissipation d;
     Vec3 unused_roll, roll_moment = Vec3::Zero();
 #pragma omp for schedule(static)
@@ -360,8 +360,7 @@ void Simulation::plane_forces() {
 #pragma omp parallel if (parallel_)
   {
     ThreadScratch& s = (*scratch_)[omp_get_thread_num()];
-    Vec3* F = omp_get_thread_num() == 0 ? p_.f.data() : s.f.data();
-    Vec3* T = omp_get_thread_num() == 0 ? p_.t.data() : s.t.data();
+    auto [F, T] = body_load_arrays(s);
     Dissipation d;
     Vec3 roll_moment = Vec3::Zero();
     for (int w = 0; w < nplanes; ++w) {
@@ -417,8 +416,7 @@ void Simulation::mesh_forces() {
 #pragma omp parallel if (parallel_)
   {
     ThreadScratch& s = (*scratch_)[omp_get_thread_num()];
-    Vec3* F = omp_get_thread_num() == 0 ? p_.f.data() : s.f.data();
-    Vec3* T = omp_get_thread_num() == 0 ? p_.t.data() : s.t.data();
+    auto [F, T] = body_load_arrays(s);
     Dissipation d;
     Vec3 roll_moment = Vec3::Zero();
     for (std::size_t m = 0; m < meshes_.size(); ++m) {
@@ -493,6 +491,11 @@ void Simulation::mesh_forces() {
     }
     s.dissipation += d;
   }
+}
+
+std::pair<Vec3*, Vec3*> Simulation::body_load_arrays(ThreadScratch& s) {
+  if (omp_get_thread_num() == 0) return {p_.f.data(), p_.t.data()};
+  return {s.f.data(), s.t.data()};
 }
 
 void Simulation::compute_forces() {

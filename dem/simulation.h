@@ -14,6 +14,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dem/contact_law.h"
@@ -113,6 +114,8 @@ class Simulation {
   void plane_forces();
   template <bool Rolling, bool Energy>
   void mesh_forces();
+  // Where this thread adds body forces and moments (see ThreadScratch).
+  std::pair<Vec3*, Vec3*> body_load_arrays(ThreadScratch& s);
   void compute_forces();
   void reduce_thread_forces();
   void apply_body_loads_and_integrate();

@@ -45,6 +45,25 @@ inline PlaneWall floor_at(double z, int material = 0) {
   return w;
 }
 
+// A floor at z = 0 and four side walls bounding [0, size]^2 (planes 1..4: x = 0, y = 0,
+// x = size, y = size); the x = size wall moves at `far_x_velocity`.
+inline void add_open_box(Simulation& sim, double size, const Vec3& far_x_velocity = Vec3::Zero()) {
+  sim.add_plane(floor_at(0));
+  for (auto [at, n] : {std::pair{0.0, 1.0}, {size, -1.0}}) {
+    PlaneWall w;
+    w.name = "x";
+    w.point = Vec3(at, 0, 0);
+    w.normal = Vec3(n, 0, 0);
+    if (at > 0) w.velocity = far_x_velocity;
+    sim.add_plane(w);
+    w.name = "y";
+    w.point = Vec3(0, at, 0);
+    w.normal = Vec3(0, n, 0);
+    w.velocity = Vec3::Zero();
+    sim.add_plane(w);
+  }
+}
+
 inline void run_for(Simulation& sim, double t) {
   const long n = static_cast<long>(std::llround(t / sim.time_step()));
   for (long i = 0; i < n; ++i) sim.step();

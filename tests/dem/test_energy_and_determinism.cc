@@ -42,20 +42,7 @@ std::unique_ptr<Simulation> mixed_box(double local_damping, double dt = 1e-5) {
   s.time_step = dt;
   s.parallel_threshold = 0;  // threads even for this small model (the determinism test)
   auto sim = std::make_unique<Simulation>(std::move(t), std::move(p), s);
-  sim->add_plane(testing::floor_at(0));
-  for (auto [x, n] : {std::pair{0.0, 1.0}, {0.2, -1.0}}) {
-    PlaneWall w;
-    w.name = "x";
-    w.point = Vec3(x, 0, 0);
-    w.normal = Vec3(n, 0, 0);
-    if (x > 0) w.velocity = Vec3(-0.05, 0, 0);
-    sim->add_plane(w);
-    w.name = "y";
-    w.point = Vec3(0, x, 0);
-    w.normal = Vec3(0, n, 0);
-    w.velocity = Vec3::Zero();
-    sim->add_plane(w);
-  }
+  testing::add_open_box(*sim, 0.2, Vec3(-0.05, 0, 0));
   return sim;
 }
 

@@ -62,18 +62,7 @@ TEST(StaticEquilibrium, PackedBoxReactionsEqualWeight) {
   s.time_step = 1.5e-5;
   s.track_energy = false;
   Simulation sim(std::move(t), std::move(p), s);
-  sim.add_plane(floor_at(0));
-  for (auto [x, n] : {std::pair{0.0, 1.0}, {0.3, -1.0}}) {
-    PlaneWall w;
-    w.name = "x";
-    w.point = Vec3(x, 0, 0);
-    w.normal = Vec3(n, 0, 0);
-    sim.add_plane(w);
-    w.name = "y";
-    w.point = Vec3(0, x, 0);
-    w.normal = Vec3(0, n, 0);
-    sim.add_plane(w);
-  }
+  testing::add_open_box(sim, 0.3);
   // Settle until every body is at rest (translational speed below 1e-4 m/s) for 0.1 s, at most
   // 6 s. Spin about a contact normal is not resisted in the PFC laws (no twisting resistance, and
   // local damping scales with the unbalanced moment), so a few balls may keep twisting in place;
