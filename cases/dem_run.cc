@@ -298,7 +298,7 @@ int DemRun::run() {
             << p.num_elements() << " sphere elements, " << sim_->planes().size() << " plane walls, "
             << sim_->meshes().size() << " meshes; time step " << sim_->time_step()
             << " s (critical " << sim_->critical_timestep() << " s), " << total_steps_ << " steps, "
-            << omp_get_max_threads() << " threads" << std::endl;
+            << sim_->team_size() << " threads" << std::endl;
 
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
@@ -398,7 +398,7 @@ void DemRun::write_summary(const std::string& status) {
       {"loop_time_s", "loop time of the timed steps", "s", loop_seconds_},
       {"sphere_steps_per_s", "sphere-steps per second", "",
        loop_seconds_ > 0 ? p.num_elements() * timed / loop_seconds_ : 0.0},
-      {"threads", "threads", "", double(omp_get_max_threads())},
+      {"threads", "threads", "", double(sim_->team_size())},
       {"neighbor_builds", "neighbour list builds", "", double(sim_->num_neighbor_builds())},
       {"kinetic_energy", "kinetic energy", "J", e.kinetic},
       {"strain_energy", "strain energy", "J", e.strain},

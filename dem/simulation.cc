@@ -256,6 +256,18 @@ void Simulation::check_initial_overlaps() const {
         throw InputError(s.str());
       }
     }
+  visit_mesh_contacts([&](int m, int, int e, const MeshContactPoint& pt, int) {
+    if (pt.overlap <= tol * p_.radius[e]) return;
+    std::ostringstream s;
+    s << "particle " << p_.id[p_.body[e]] << " overlaps mesh '" << meshes_[m].name << "' by "
+      << pt.overlap << " m at start (more than " << tol
+      << " of its radius); valid: particles clear of the mesh at start";
+    throw InputError(s.str());
+  });
+}
+
+template <class Visitor>
+void Simulation::visit_mesh_contacts(Visitor&& visit) const {
   std::vector<MeshContactPoint> points;
   for (std::size_t m = 0; m < meshes_.size(); ++m) {
     const WallHistory& h = plane_history_[planes_.size() + m];
@@ -264,14 +276,9 @@ void Simulation::check_initial_overlaps() const {
       sphere_mesh_contacts(meshes_[m].world, p_.pos[e], p_.radius[e],
                            h.triangles.data() + h.triangle_offsets[c],
                            h.triangle_offsets[c + 1] - h.triangle_offsets[c], points);
-      for (const auto& pt : points)
-        if (pt.overlap > tol * p_.radius[e]) {
-          std::ostringstream s;
-          s << "particle " << p_.id[p_.body[e]] << " overlaps mesh '" << meshes_[m].name << "' by "
-            << pt.overlap << " m at start (more than " << tol
-            << " of its radius); valid: particles clear of the mesh at start";
-          throw InputError(s.str());
-        }
+      const int used = std::min<int>(static_cast<int>(points.size()), WallHistory::kSlots);
+      for (int a = 0; a < used; ++a)
+        visit(static_cast<int>(m), static_cast<int>(c), e, points[a], a);
     }
   }
 }
@@ -721,18 +728,10 @@ double Simulation::critical_timestep() const {
       add(p_.body[e], pr, planes_[w].normal,
           p_.pos[e] - planes_[w].normal * p_.radius[e] - p_.x[p_.body[e]], p_.radius[e]);
     }
-  constexpr int S = WallHistory::kSlots;
-  for (std::size_t m = 0; m < meshes_.size(); ++m) {
-    const WallHistory& wh = plane_history_[planes_.size() + m];
-    for (std::size_t c = 0; c < wh.element.size(); ++c)
-      for (int a = 0; a < S; ++a) {
-        if (wh.fn[c * S + a] <= 0) continue;
-        const int e = wh.element[c];
-        const Vec3& n = wh.normal[c * S + a];
-        const ContactProperties& pr = materials_.pair(meshes_[m].material, p_.material[e]);
-        add(p_.body[e], pr, n, p_.pos[e] - n * p_.radius[e] - p_.x[p_.body[e]], p_.radius[e]);
-      }
-  }
+  visit_mesh_contacts([&](int m, int, int e, const MeshContactPoint& pt, int) {
+    add(p_.body[e], materials_.pair(meshes_[m].material, p_.material[e]), pt.normal,
+        pt.point - p_.x[p_.body[e]], p_.radius[e]);
+  });
   double dt = std::numeric_limits<double>::infinity();
   for (int b = 0; b < nb; ++b) {
     if (kt[b].maxCoeff() == 0) {
@@ -774,21 +773,13 @@ EnergyBudget Simulation::energy() const {
                                       overlap, wh.shear[c], wh.roll[c], p_.radius[el]);
     }
   }
-  std::vector<MeshContactPoint> points;
   constexpr int S = WallHistory::kSlots;
-  for (std::size_t m = 0; m < meshes_.size(); ++m) {
+  visit_mesh_contacts([&](int m, int c, int el, const MeshContactPoint& pt, int slot) {
     const WallHistory& wh = plane_history_[planes_.size() + m];
-    for (std::size_t c = 0; c < wh.element.size(); ++c) {
-      const int el = wh.element[c];
-      sphere_mesh_contacts(meshes_[m].world, p_.pos[el], p_.radius[el],
-                           wh.triangles.data() + wh.triangle_offsets[c],
-                           wh.triangle_offsets[c + 1] - wh.triangle_offsets[c], points);
-      const ContactProperties& pr = materials_.pair(meshes_[m].material, p_.material[el]);
-      for (std::size_t a = 0; a < points.size() && a < S; ++a)
-        strain += contact_strain_energy(pr, points[a].overlap, wh.shear[c * S + a],
-                                        wh.roll[c * S + a], p_.radius[el]);
-    }
-  }
+    strain +=
+        contact_strain_energy(materials_.pair(meshes_[m].material, p_.material[el]), pt.overlap,
+                              wh.shear[c * S + slot], wh.roll[c * S + slot], p_.radius[el]);
+  });
   e.strain = strain;
   return e;
 }

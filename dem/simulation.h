@@ -93,8 +93,11 @@ class Simulation {
   EnergyBudget energy() const;
   int num_contacts() const;  // touching pairs and wall contacts of the last step
   int num_neighbor_builds() const { return builds_; }
+  // Threads this model runs on (1 below settings().parallel_threshold elements).
+  int team_size() const { return parallel_ ? omp_get_max_threads() : 1; }
   void for_each_contact(const std::function<void(const ContactRecord&)>& f) const;
-  // Largest normal force of the last step between particles and against walls/meshes, N.
+  // Largest contact force magnitude sqrt(F_n^2 + |F_s|^2) of the last step between particles
+  // and against walls/meshes, N.
   double max_particle_contact_force() const;
   double max_wall_contact_force() const;
   // Checks the state for NaN; throws a std::runtime_error naming the first bad body.
@@ -123,6 +126,11 @@ class Simulation {
   bool needs_rebuild() const;
   void rebuild();
   void check_initial_overlaps() const;
+  // Calls visit(mesh, candidate, element, point, slot) for every particle-mesh contact at the
+  // current positions, in the order mesh_forces stores them (slot = index among the element's
+  // contacts with that mesh, the history slot).
+  template <class Visitor>
+  void visit_mesh_contacts(Visitor&& visit) const;
   [[noreturn]] void runaway(int ei, int ej, double ratio, const std::string& other) const;
 
   MaterialTable materials_;
@@ -144,8 +152,7 @@ class Simulation {
   int builds_ = 0;
   bool ready_ = false;
   bool parallel_ = true;  // OpenMP team for this model (see parallel_threshold)
-  int team_size() const { return parallel_ ? omp_get_max_threads() : 1; }
-  EnergyBudget tally_;  // dissipation and work terms accumulated so far
+  EnergyBudget tally_;    // dissipation and work terms accumulated so far
 };
 
 }  // namespace trackbed::dem
