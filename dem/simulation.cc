@@ -628,37 +628,43 @@ void Simulation::apply_body_loads_and_integrate() {
   const double dt = settings_.time_step;
   const Vec3 g = settings_.gravity;
   // Per-thread partial sums added in thread order: the tallies are reproducible bit for bit.
+  // Each thread sums in registers and stores once (neighbouring slots share a cache line).
   std::vector<double> local(team_size(), 0.0), gravity_work(local.size(), 0.0);
-#pragma omp parallel for schedule(static) if (parallel_)
-  for (int b = 0; b < nb; ++b) {
-    const int tid = omp_get_thread_num();
-    const double m = p_.mass[b];
-    const double alpha = materials_[p_.body_material[b]].local_damping;
-    Vec3 F = p_.f[b] + m * g;
-    Vec3 M = p_.t[b];
-    // Local damping (PFC): each component of the unbalanced force and moment is reduced by
-    // alpha |F_k| against the sign of the matching velocity component.
-    Vec3 Fd = Vec3::Zero(), Md = Vec3::Zero();
-    if (alpha > 0) {
-      for (int k = 0; k < 3; ++k) {
-        Fd[k] = -alpha * std::abs(F[k]) * ((p_.v[b][k] > 0) - (p_.v[b][k] < 0));
-        Md[k] = -alpha * std::abs(M[k]) * ((p_.w[b][k] > 0) - (p_.w[b][k] < 0));
+#pragma omp parallel if (parallel_)
+  {
+    double my_local = 0, my_gravity_work = 0;
+#pragma omp for schedule(static)
+    for (int b = 0; b < nb; ++b) {
+      const double m = p_.mass[b];
+      const double alpha = materials_[p_.body_material[b]].local_damping;
+      Vec3 F = p_.f[b] + m * g;
+      Vec3 M = p_.t[b];
+      // Local damping (PFC): each component of the unbalanced force and moment is reduced by
+      // alpha |F_k| against the sign of the matching velocity component.
+      Vec3 Fd = Vec3::Zero(), Md = Vec3::Zero();
+      if (alpha > 0) {
+        for (int k = 0; k < 3; ++k) {
+          Fd[k] = -alpha * std::abs(F[k]) * ((p_.v[b][k] > 0) - (p_.v[b][k] < 0));
+          Md[k] = -alpha * std::abs(M[k]) * ((p_.w[b][k] > 0) - (p_.w[b][k] < 0));
+        }
+        F += Fd;
+        M += Md;
       }
-      F += Fd;
-      M += Md;
+      p_.v[b] += F * (dt / m);
+      const Vec3 dx = p_.v[b] * dt;
+      p_.x[b] += dx;
+      my_gravity_work += m * g.dot(dx);
+      if (p_.is_clump[b]) {
+        p_.L[b] += M * dt;
+        free_rotation(p_.q[b], p_.L[b], p_.inertia[b], dt);
+        p_.w[b] = angular_velocity(p_.q[b], p_.L[b], p_.inertia[b]);
+      } else {
+        p_.w[b] += M * (dt / p_.inertia[b][0]);
+      }
+      my_local -= Fd.dot(dx) + Md.dot(p_.w[b]) * dt;
     }
-    p_.v[b] += F * (dt / m);
-    const Vec3 dx = p_.v[b] * dt;
-    p_.x[b] += dx;
-    gravity_work[tid] += m * g.dot(dx);
-    if (p_.is_clump[b]) {
-      p_.L[b] += M * dt;
-      free_rotation(p_.q[b], p_.L[b], p_.inertia[b], dt);
-      p_.w[b] = angular_velocity(p_.q[b], p_.L[b], p_.inertia[b]);
-    } else {
-      p_.w[b] += M * (dt / p_.inertia[b][0]);
-    }
-    local[tid] -= Fd.dot(dx) + Md.dot(p_.w[b]) * dt;
+    local[omp_get_thread_num()] = my_local;
+    gravity_work[omp_get_thread_num()] = my_gravity_work;
   }
   for (std::size_t t = 0; t < local.size(); ++t) {
     tally_.local_damping += local[t];

@@ -515,6 +515,20 @@ def main():
             s.add_argument("--tol", type=float, default=1e-9)
         s.set_defaults(f=f)
 
+    s = sub.add_parser("data-to-csv")
+    s.add_argument("--data", required=True)
+    s.add_argument("--csv", required=True)
+    s.set_defaults(f=cmd_data_to_csv)
+
+    s = sub.add_parser("vtu-to-dump")
+    s.add_argument("--vtu", required=True)
+    s.add_argument("--dump", required=True)
+    s.add_argument("--lx", type=float, required=True)
+    s.add_argument("--ly", type=float, required=True)
+    s.add_argument("--margin", type=float, default=0.01)
+    s.add_argument("--step", type=int, default=0)
+    s.set_defaults(f=cmd_vtu_to_dump)
+
     s = sub.add_parser("massprops")
     s.add_argument("--template", required=True)
     s.add_argument("--density", type=float, default=2800.0)
