@@ -457,6 +457,61 @@ def cmd_summary(a):
     print(f"loop_time_s={t} procs={procs} steps={steps} atoms={atoms} {chk[-1] if chk else ''}")
 
 
+# --------------------------------------------------------------------------- settling in trackbed
+def cmd_data_to_csv(a):
+    """LAMMPS sphere data file (Atoms # sphere) -> trackbed particle CSV, rows in id order."""
+    with open(a.data) as f:
+        lines = f.read().splitlines()
+    start = next(i for i, l in enumerate(lines) if l.startswith("Atoms")) + 2
+    n = int(next(l.split()[0] for l in lines if l.endswith(" atoms")))
+    rows = np.array([l.split()[:7] for l in lines[start:start + n]], dtype=float)
+    rows = rows[np.argsort(rows[:, 0])]
+    with open(a.csv, "w") as f:
+        f.write("x,y,z,radius\n")
+        for r in rows:
+            f.write("%s,%s,%s,%s\n" % (FMT % r[4], FMT % r[5], FMT % r[6], FMT % (r[2] / 2)))
+    print(f"data-to-csv: {n} spheres -> {a.csv}")
+
+
+def read_vtu_points(path):
+    """Points and point fields of a trackbed VTU (binary appended raw, UInt64 headers)."""
+    with open(path, "rb") as f:
+        raw = f.read()
+    mark = raw.index(b'<AppendedData encoding="raw">')
+    base = raw.index(b"_", mark) + 1
+    header = raw[:mark].decode()
+    kinds = {"Float64": np.float64, "Int64": np.int64, "UInt8": np.uint8}
+    out = {}
+    for m in re.finditer(r'<DataArray type="(\w+)" Name="(\w+)" NumberOfComponents="(\d+)" '
+                         r'format="appended" offset="(\d+)"/>', header):
+        kind, name, comps, off = m.group(1), m.group(2), int(m.group(3)), int(m.group(4))
+        nbytes = int(np.frombuffer(raw, np.uint64, 1, base + off)[0])
+        arr = np.frombuffer(raw, kinds[kind], nbytes // np.dtype(kinds[kind]).itemsize,
+                            base + off + 8)
+        out[name] = arr.reshape(-1, comps) if comps > 1 else arr
+    return out
+
+
+def cmd_vtu_to_dump(a):
+    """trackbed's last particles VTU -> the LAMMPS text dump the benchmark reads (ids = rows of
+    the particle file + 1), so that a packing settled by trackbed feeds both codes."""
+    v = read_vtu_points(a.vtu)
+    pos, rad, ids = v["Points"], v["radius"], v["id"].astype(np.int64) + 1
+    order = np.argsort(ids)
+    with open(a.dump, "w") as f:
+        f.write(f"ITEM: TIMESTEP\n{a.step}\nITEM: NUMBER OF ATOMS\n{len(ids)}\n")
+        f.write("ITEM: BOX BOUNDS ff ff fm\n")
+        top = float(np.max(pos[:, 2] + rad))
+        for lo, hi in ((-a.margin, a.lx + a.margin), (-a.margin, a.ly + a.margin),
+                       (-a.margin, top + a.margin)):
+            f.write(f"{lo!r} {hi!r}\n")
+        f.write("ITEM: ATOMS id type x y z radius\n")
+        for i in order:
+            f.write("%d 1 %s %s %s %s\n" % (ids[i], FMT % pos[i, 0], FMT % pos[i, 1],
+                                              FMT % pos[i, 2], FMT % rad[i]))
+    print(f"vtu-to-dump: {len(ids)} spheres -> {a.dump}")
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = p.add_subparsers(dest="cmd", required=True)
