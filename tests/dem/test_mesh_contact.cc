@@ -1,37 +1,25 @@
 // A triangle mesh wall must act exactly like the plane it tiles, wherever a sphere touches it:
-// inside a face, across a shared edge, on a vertex where six triangles meet.
+// inside a face, across a shared edge, on vertices where four or eight triangles meet.
 #include <gtest/gtest.h>
 
 #include "dem/mesh_body.h"
+#include "flat_grid.h"
 #include "sim_builder.h"
 
 namespace trackbed::dem {
 namespace {
 
+using testing::flat_grid;
 using testing::floor_at;
 using testing::table_with_pair;
 using testing::test_material;
 
-// A flat n x n grid of squares on z = 0, each split into two triangles along alternating
-// diagonals so that some vertices join six triangles.
-TriangleMesh flat_grid(int n, double size) {
-  TriangleMesh m;
-  const double h = size / n;
-  for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) m.vertices.emplace_back(-size / 2 + i * h, -size / 2 + j * h, 0);
-  auto id = [&](int i, int j) { return j * (n + 1) + i; };
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const int a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
-      if ((i + j) % 2 == 0) {
-        m.triangles.push_back({a, b, c});
-        m.triangles.push_back({a, c, d});
-      } else {
-        m.triangles.push_back({a, b, d});
-        m.triangles.push_back({b, c, d});
-      }
-    }
-  m.finalize();
+// The 4 x 4 alternating grid (vertices joining 4 and 8 triangles) scaled to 0.4 x 0.4 m and
+// centred on the origin.
+TriangleMesh floor_grid() {
+  TriangleMesh m = flat_grid(4, true);
+  m.scale(0.1, Vec3::Zero());
+  m.translate(Vec3(-0.2, -0.2, 0));
   return m;
 }
 
@@ -47,7 +35,7 @@ std::vector<Vec3> trajectory(bool mesh, const Vec3& start, const Vec3& v0) {
   s.time_step = 1e-5;
   Simulation sim(table_with_pair(m, k), std::move(p), s);
   if (mesh) {
-    MeshBody body = MeshBody::from_world_mesh("floor", flat_grid(4, 0.4), 0, 0, Vec3::Zero());
+    MeshBody body = MeshBody::from_world_mesh("floor", floor_grid(), 0, 0, Vec3::Zero());
     sim.add_mesh_body(std::move(body));
   } else {
     sim.add_plane(floor_at(0));
@@ -64,7 +52,7 @@ std::vector<Vec3> trajectory(bool mesh, const Vec3& start, const Vec3& v0) {
 }
 
 TEST(MeshContact, BounceOnMeshEqualsBounceOnPlane) {
-  // Landing on a vertex where six triangles meet (grid point (0, 0)), on a shared edge, and in a
+  // Landing on a vertex where eight triangles meet (grid point (0, 0)), on a shared edge, and in a
   // face, each with a sliding velocity that carries the ball across further edges and vertices.
   const std::vector<std::pair<Vec3, Vec3>> cases = {
       {Vec3(0, 0, 0.05), Vec3(0.3, 0.0, -0.5)},

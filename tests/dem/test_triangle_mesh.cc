@@ -14,10 +14,12 @@
 #include <random>
 #include <string>
 #include <vector>
+#include "flat_grid.h"
 
 namespace trackbed::dem {
 namespace {
 
+using testing::flat_grid;
 namespace fs = std::filesystem;
 
 // ---- helpers ----------------------------------------------------------------------------------
@@ -111,31 +113,6 @@ std::string input_error_message(F f) {
 
 bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
-}
-
-// A square grid of n x n unit cells in the plane z = 0, each cell split into two triangles along
-// one diagonal: the same diagonal everywhere (interior vertices shared by 6 triangles), or
-// alternating (4 and 8).
-TriangleMesh flat_grid(int n, bool alternating) {
-  TriangleMesh mesh;
-  for (int j = 0; j <= n; ++j) {
-    for (int i = 0; i <= n; ++i) mesh.vertices.emplace_back(i, j, 0.0);
-  }
-  const auto id = [n](int i, int j) { return j * (n + 1) + i; };
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      const int a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
-      if (alternating && (i + j) % 2 == 1) {
-        mesh.triangles.push_back({a, b, d});
-        mesh.triangles.push_back({b, c, d});
-      } else {
-        mesh.triangles.push_back({a, b, c});
-        mesh.triangles.push_back({a, c, d});
-      }
-    }
-  }
-  mesh.finalize();
-  return mesh;
 }
 
 std::vector<int> all_triangles(const TriangleMesh& mesh) {
