@@ -169,7 +169,7 @@ void DemRun::open_outputs() {
   auto& w = series_->walls->stream();
   w << "time";
   for (const auto& p : sim_->planes())
-    for (const char* c : {"fx", "fy", "fz"}) w << "," << p.name << "_" << c;
+    for (const char* c : {"fx", "fy", "fz", "mx", "my", "mz"}) w << "," << p.name << "_" << c;
   for (const auto& m : sim_->meshes()) {
     for (const char* c : {"x", "y", "z", "fx", "fy", "fz", "mx", "my", "mz"})
       w << "," << m.name << "_" << c;
@@ -194,7 +194,8 @@ void DemRun::write_history() {
   auto& w = series_->walls->stream();
   w << t;
   for (const auto& p : sim_->planes())
-    w << "," << p.force.x() << "," << p.force.y() << "," << p.force.z();
+    for (const dem::Vec3* v : {&p.force, &p.moment})
+      w << "," << v->x() << "," << v->y() << "," << v->z();
   for (const auto& m : sim_->meshes()) {
     for (const Vec3* v : {&m.x, &m.contact_force, &m.contact_moment})
       w << "," << v->x() << "," << v->y() << "," << v->z();
