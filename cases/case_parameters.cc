@@ -2,12 +2,12 @@
 // parameter (with units, defaults and valid ranges) and reads them into CaseParameters.
 #include "cases/case_parameters.h"
 
-#include <deal.II/base/exceptions.h>
 #include <deal.II/base/parameter_handler.h>
 
 #include <filesystem>
 #include <sstream>
 
+#include "cases/prm_support.h"
 #include "dem/input_error.h"
 
 namespace trackbed::cases {
@@ -27,11 +27,6 @@ constexpr int kMaxMaterials = 8, kMaxPairs = 16, kMaxPlanes = 16, kMaxMeshes = 8
 const char* const kDofNames[6] = {"x", "y", "z", "rotation x", "rotation y", "rotation z"};
 
 const Double kStiffness(0, 1e15), kFriction(0, 100), kRatio(0, 1);
-
-void declare_vector(ParameterHandler& prm, const std::string& name, const std::string& def,
-                    const std::string& doc) {
-  prm.declare_entry(name, def, List(Double(), 3, 3), doc);
-}
 
 void declare(ParameterHandler& prm) {
   prm.declare_entry("mode", "dem", Selection("dem|coupled"),
@@ -120,6 +115,9 @@ void declare(ParameterHandler& prm) {
                       "STL file (ASCII or binary; each ASCII solid is a named part); empty: box");
     prm.declare_entry("box", "0, 0, 0, 1, 1, 1", List(Double(), 6, 6),
                       "Lower and upper corner of a box mesh when no file is given, m");
+    prm.declare_entry("from sample", "false", Bool(),
+                      "Take geometry, pose, mass and inertia from the particles/sample file's "
+                      "mesh of this name (e.g. its seated sleeper); the DOFs come from here");
     prm.declare_entry("scale", "1", Double(1e-12), "Scale applied to the STL coordinates");
     declare_vector(prm, "translation", "0, 0, 0", "Translation applied after scaling, m");
     prm.declare_entry("material", "", Anything(), "Material name (empty: the first material)");
@@ -137,6 +135,10 @@ void declare(ParameterHandler& prm) {
 
   prm.enter_subsection("particles");
   prm.declare_entry("file", "", Anything(), "Particle CSV (docs/formats.md); empty: generator");
+  prm.declare_entry("sample file", "", Anything(),
+                    "Sample built by 'trackbed build-sample' (.h5): its bodies, contact springs "
+                    "and walls; its material names must be defined in 'materials'");
+  prm.declare_entry("sample walls", "true", Bool(), "Add the sample's plane walls");
   prm.declare_entry("templates", "", Anything(),
                     "Clump templates as 'name:file.csv, name2:file2.csv'");
   prm.enter_subsection("generator");
@@ -164,18 +166,6 @@ void declare(ParameterHandler& prm) {
                     "Body ids (rows of the particle file) whose history is written");
   prm.declare_entry("plot", "true", Bool(), "Write a PNG plot of the histories (matplotlib)");
   prm.leave_subsection();
-}
-
-dem::Vec3 vector_of(const ParameterHandler& prm, const std::string& name) {
-  const auto v =
-      dealii::Utilities::string_to_double(dealii::Utilities::split_string_list(prm.get(name)));
-  return dem::Vec3(v[0], v[1], v[2]);
-}
-
-std::array<double, 6> six_of(const ParameterHandler& prm, const std::string& name) {
-  const auto v =
-      dealii::Utilities::string_to_double(dealii::Utilities::split_string_list(prm.get(name)));
-  return {{v[0], v[1], v[2], v[3], v[4], v[5]}};
 }
 
 // "servo -3728 gain 1e-6 max 0.01" and friends.
@@ -229,43 +219,13 @@ dem::DofControl parse_dof(const std::string& text, const std::string& where) {
   return c;
 }
 
-// deal.II's exception text is several lines; users get the "additional information" part as
-// one line.
-std::string one_line(const std::exception& e) {
-  std::string text;
-  if (const auto* d = dynamic_cast<const dealii::ExceptionBase*>(&e)) {
-    std::ostringstream s;
-    d->print_info(s);
-    text = s.str();
-  } else {
-    text = e.what();
-  }
-  std::string out;
-  for (char c : text) {
-    if (c == '\n' || c == '\r' || c == '\t') c = ' ';
-    if (c == ' ' && (out.empty() || out.back() == ' ')) continue;
-    out += c;
-  }
-  while (!out.empty() && out.back() == ' ') out.pop_back();
-  return out;
-}
-
 }  // namespace
 
 CaseParameters read_case_file(const std::string& path) {
   namespace fs = std::filesystem;
-  if (!fs::exists(path))
-    throw dem::InputError(path +
-                          ": case file not found; valid: a .prm file (see 'trackbed "
-                          "--print-parameters')");
   ParameterHandler prm;
   declare(prm);
-  try {
-    prm.parse_input(path);
-  } catch (const std::exception& e) {
-    throw dem::InputError(path + ": " + one_line(e) +
-                          "; valid names and ranges: trackbed --print-parameters");
-  }
+  parse_parameter_file(prm, path, "trackbed --print-parameters");
   const fs::path base = fs::absolute(path).parent_path();
   auto resolve = [&](const std::string& f) {
     return f.empty() || fs::path(f).is_absolute() ? f : (base / f).lexically_normal().string();
@@ -352,6 +312,7 @@ CaseParameters read_case_file(const std::string& path) {
     MeshParameters m;
     m.name = prm.get("name");
     m.file = resolve(prm.get("file"));
+    m.from_sample = prm.get_bool("from sample");
     m.box = six_of(prm, "box");
     m.scale = prm.get_double("scale");
     m.translation = vector_of(prm, "translation");
@@ -370,6 +331,8 @@ CaseParameters read_case_file(const std::string& path) {
 
   prm.enter_subsection("particles");
   c.particle_file = resolve(prm.get("file"));
+  c.sample_file = resolve(prm.get("sample file"));
+  c.sample_walls = prm.get_bool("sample walls");
   for (const auto& item : dealii::Utilities::split_string_list(prm.get("templates"))) {
     const auto colon = item.find(':');
     if (colon == std::string::npos || colon == 0 || colon + 1 == item.size())
@@ -387,10 +350,19 @@ CaseParameters read_case_file(const std::string& path) {
   c.generator.material = prm.get("material");
   prm.leave_subsection();
   prm.leave_subsection();
-  if (c.particle_file.empty() && c.generator.count == 0)
+  if (c.particle_file.empty() && c.sample_file.empty() && c.generator.count == 0)
     throw dem::InputError(path +
-                          ": particles: neither 'file' nor 'generator/number' is given; "
-                          "valid: a particle CSV file or a generator with number > 0");
+                          ": particles: none of 'file', 'sample file' and 'generator/number' is "
+                          "given; valid: a particle CSV file, a sample or a generator with "
+                          "number > 0");
+  if (!c.sample_file.empty() && (!c.particle_file.empty() || c.generator.count > 0))
+    throw dem::InputError(path +
+                          ": particles: 'sample file' is given with 'file' or a generator; "
+                          "valid: a sample alone (its body ids are its own)");
+  for (const auto& m : c.meshes)
+    if (m.from_sample && c.sample_file.empty())
+      throw dem::InputError(path + ": meshes/" + m.name +
+                            ": 'from sample = true' needs particles/sample file");
 
   prm.enter_subsection("output");
   c.output_folder = prm.get("folder");

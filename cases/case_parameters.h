@@ -30,6 +30,7 @@ struct MeshParameters {
   std::string file;             // STL; empty: use `box`
   std::array<double, 6> box{};  // lower x,y,z, upper x,y,z (when no file)
   bool named_box_parts = true;  // box faces named base, top, sides, ends
+  bool from_sample = false;  // geometry, pose, mass and inertia of the sample's mesh of this name
   double scale = 1;
   dem::Vec3 translation = dem::Vec3::Zero();
   double density = 0;  // kg/m^3; > 0: mass and inertia from the closed mesh
@@ -65,6 +66,8 @@ struct CaseParameters {
   std::vector<PlaneParameters> planes;
   std::vector<MeshParameters> meshes;
   std::string particle_file;
+  std::string sample_file;   // a sample built by `trackbed build-sample` (HDF5)
+  bool sample_walls = true;  // add the sample's plane walls
   std::vector<std::pair<std::string, std::string>> templates;  // name, CSV file
   GeneratorParameters generator;
   // output

@@ -11,6 +11,7 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "dem/atomic_file.h"
@@ -85,6 +86,15 @@ void DemRun::build_model() {
     templates.emplace(name, dem::read_clump_template_csv(file, name));
 
   dem::Particles particles;
+  std::optional<dem::Sample> sample;
+  if (!prm_.sample_file.empty()) {
+    sample = dem::read_sample(prm_.sample_file);
+    sample_material_.clear();
+    for (const auto& name : sample->materials)
+      sample_material_.push_back(material_index(
+          materials, name, prm_.file + ": particles/sample file " + prm_.sample_file));
+    particles = sample_particles(*sample);
+  }
   if (!prm_.particle_file.empty())
     dem::read_particle_file(prm_.particle_file, materials, templates, particles);
   if (prm_.generator.count > 0) {
@@ -117,6 +127,11 @@ void DemRun::build_model() {
   settings.track_energy = prm_.track_energy;
   sim_ = std::make_unique<dem::Simulation>(std::move(materials), std::move(particles), settings);
 
+  if (sample && prm_.sample_walls)
+    for (dem::PlaneWall w : sample->planes) {
+      w.material = sample_material_[w.material];
+      sim_->add_plane(w);
+    }
   for (const auto& w : prm_.planes) {
     dem::PlaneWall wall;
     wall.name = w.name;
@@ -129,6 +144,21 @@ void DemRun::build_model() {
   }
   for (const auto& m : prm_.meshes) {
     const std::string where = prm_.file + ": meshes/" + m.name;
+    if (m.from_sample) {
+      const auto it = std::find_if(sample->meshes.begin(), sample->meshes.end(),
+                                   [&](const dem::MeshBody& b) { return b.name == m.name; });
+      if (it == sample->meshes.end())
+        throw dem::InputError(
+            where + ": the sample " + prm_.sample_file + " has no mesh of this name; valid: " +
+            (sample->meshes.empty() ? std::string("(none)") : sample->meshes.front().name));
+      dem::MeshBody body = *it;
+      body.material = m.material.empty() ? sample_material_[it->material]
+                                         : material_index(sim_->materials(), m.material, where);
+      body.weight = m.weight;
+      body.dof = m.dof;
+      sim_->add_mesh_body(std::move(body));
+      continue;
+    }
     dem::TriangleMesh mesh =
         m.file.empty() ? dem::make_box_mesh(Vec3(m.box[0], m.box[1], m.box[2]),
                                             Vec3(m.box[3], m.box[4], m.box[5]), m.named_box_parts)
@@ -153,6 +183,34 @@ void DemRun::build_model() {
     }
     sim_->add_mesh_body(std::move(body));
   }
+}
+
+dem::Particles DemRun::sample_particles(const dem::Sample& sample) {
+  dem::Particles p = sample.particles;
+  for (int& m : p.body_material) m = sample_material_[m];
+  for (int& m : p.material) m = sample_material_[m];
+  // Sample walls keep their numbers when they are added (first); its meshes are matched by name
+  // to the case's meshes taken from the sample; contacts with anything else are dropped.
+  const int sample_planes = static_cast<int>(sample.planes.size());
+  const int planes = prm_.sample_walls ? sample_planes : 0;
+  int case_planes = planes + static_cast<int>(prm_.planes.size());
+  sample_contacts_ = dem::ContactState();
+  sample_contacts_.pairs = sample.contacts.pairs;
+  for (dem::SavedWallContact c : sample.contacts.walls) {
+    if (c.wall < sample_planes) {
+      if (!prm_.sample_walls) continue;
+    } else {
+      const std::string& name = sample.meshes[c.wall - sample_planes].name;
+      int k = 0;
+      while (k < static_cast<int>(prm_.meshes.size()) &&
+             !(prm_.meshes[k].from_sample && prm_.meshes[k].name == name))
+        ++k;
+      if (k == static_cast<int>(prm_.meshes.size())) continue;
+      c.wall = case_planes + k;
+    }
+    sample_contacts_.walls.push_back(c);
+  }
+  return p;
 }
 
 void DemRun::open_outputs() {
@@ -278,6 +336,12 @@ int DemRun::run() {
   if (prm_.threads > 0) omp_set_num_threads(prm_.threads);
   build_model();
   sim_->setup();
+  if (!prm_.sample_file.empty()) {
+    const int restored = sim_->restore_contact_state(sample_contacts_);
+    std::cout << "trackbed: sample " << prm_.sample_file << ": " << restored << " of "
+              << sample_contacts_.pairs.size() + sample_contacts_.walls.size()
+              << " contact springs restored" << std::endl;
+  }
   initial_energy_ = sim_->energy();
   initial_positions_ = sim_->particles().pos;
   // Bodies are reordered at setup; the case file names them by id (row of the particle file).

@@ -13,6 +13,8 @@
 #include <vector>
 
 #include "cases/case_parameters.h"
+#include "dem/contact_state.h"
+#include "dem/sample.h"
 #include "dem/simulation.h"
 #include "dem/vtu_writer.h"
 
@@ -27,6 +29,10 @@ class DemRun {
 
  private:
   void build_model();
+  // The bodies of particles/sample file with the case's material indices, and the sample's
+  // contact springs renumbered to the model's walls (restored after setup).
+  dem::Particles sample_particles(const dem::Sample& sample);
+  void add_sample_walls(const dem::Sample& sample);
   void open_outputs();
   void write_history();
   void write_frame();
@@ -47,6 +53,8 @@ class DemRun {
   std::unique_ptr<dem::PvdCollection> pvd_particles_, pvd_contacts_, pvd_walls_;
   std::vector<dem::Vec3> initial_positions_;
   std::vector<int> tracked_;  // body indices of output/tracked bodies
+  dem::ContactState sample_contacts_;
+  std::vector<int> sample_material_;  // case material of each sample material
   int frame_ = 0;
   bool warned_critical_ = false;
 

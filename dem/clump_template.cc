@@ -28,18 +28,43 @@ ClumpTemplate make_clump_template(std::string name,
   } catch (const InputError& e) {
     throw InputError("clump template '" + name + "': " + e.what());
   }
+  return make_clump_template_with_mass(std::move(name), spheres_in_any_frame, mp);
+}
+
+ClumpTemplate make_clump_template_with_mass(std::string name,
+                                            const std::vector<SphereShape>& spheres_in_any_frame,
+                                            const MassProperties& mass) {
+  const std::string what = "clump template '" + name + "'";
+  if (spheres_in_any_frame.empty()) throw InputError(what + " has no spheres; give at least one");
+  for (std::size_t i = 0; i < spheres_in_any_frame.size(); ++i) {
+    const SphereShape& sp = spheres_in_any_frame[i];
+    if (!(std::isfinite(sp.radius) && sp.radius > 0.0) || !sp.centre.allFinite()) {
+      std::ostringstream msg;
+      msg << what << ": sphere " << i << " (radius " << sp.radius
+          << ") is not valid; a sphere needs a finite centre and a finite radius > 0";
+      throw InputError(msg.str());
+    }
+  }
+  if (!(std::isfinite(mass.volume) && mass.volume > 0.0) || !mass.principal_moments.allFinite() ||
+      !(mass.principal_moments.minCoeff() > 0.0)) {
+    std::ostringstream msg;
+    msg << what << ": volume " << mass.volume << " and principal moments ("
+        << mass.principal_moments.transpose()
+        << ") are not valid mass properties; they must be finite and > 0";
+    throw InputError(msg.str());
+  }
   ClumpTemplate t;
   t.name = std::move(name);
-  t.volume = mp.volume;
-  t.principal_moments = mp.principal_moments;
-  t.input_centroid = mp.centroid;
-  t.input_axes = mp.principal_axes;
+  t.volume = mass.volume;
+  t.principal_moments = mass.principal_moments;
+  t.input_centroid = mass.centroid;
+  t.input_axes = mass.principal_axes;
   t.bounding_radius = 0.0;
   // principal_axes maps principal to input coordinates; its transpose maps back.
-  const Mat3 to_principal = mp.principal_axes.transpose();
+  const Mat3 to_principal = mass.principal_axes.transpose();
   t.spheres.reserve(spheres_in_any_frame.size());
   for (const SphereShape& sp : spheres_in_any_frame) {
-    const SphereShape moved{to_principal * (sp.centre - mp.centroid), sp.radius};
+    const SphereShape moved{to_principal * (sp.centre - mass.centroid), sp.radius};
     t.bounding_radius = std::max(t.bounding_radius, moved.centre.norm() + moved.radius);
     t.spheres.push_back(moved);
   }

@@ -39,6 +39,15 @@ ClumpTemplate make_clump_template(std::string name,
                                   const std::vector<SphereShape>& spheres_in_any_frame,
                                   double relative_tolerance = 1e-4);
 
+// A template of `spheres_in_any_frame` whose mass properties are `mass` (same frame) instead of
+// those of the union of the spheres: e.g. the closed surface the spheres were packed into, as PFC's
+// bubble pack does. The spheres are moved to the principal frame of `mass`, and volume and moments
+// are those of `mass`. Throws InputError naming the template for no spheres, a radius that is not
+// finite and > 0, a non-finite centre, or a volume or principal moment that is not finite and > 0.
+ClumpTemplate make_clump_template_with_mass(std::string name,
+                                            const std::vector<SphereShape>& spheres_in_any_frame,
+                                            const MassProperties& mass);
+
 // The same shape scaled geometrically by `factor` about the origin of its input frame: lengths * f,
 // volume * f^3, moments * f^5. Throws InputError unless `factor` is finite and > 0.
 ClumpTemplate scaled(const ClumpTemplate& clump, double factor);

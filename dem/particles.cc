@@ -30,23 +30,22 @@ int Particles::add_body(const Vec3& centre, const Quat& orientation, double m, c
 int Particles::add_ball(const Vec3& centre, double r, int mat, double density,
                         std::int64_t user_id) {
   const double m = density * 4.0 / 3.0 * M_PI * r * r * r;
-  const double I = 0.4 * m * r * r;
-  const int b = add_body(centre, Quat::Identity(), m, Vec3::Constant(I), mat, false, user_id);
-  pos.push_back(centre);
-  offset.push_back(Vec3::Zero());
-  radius.push_back(r);
-  body.push_back(b);
-  material.push_back(mat);
-  first_element.push_back(num_elements());
-  return b;
+  return add_body_with_elements(centre, Quat::Identity(), m, Vec3::Constant(0.4 * m * r * r), mat,
+                                false, user_id, {{Vec3::Zero(), r}});
 }
 
 int Particles::add_clump(const ClumpTemplate& tmpl, const Vec3& centre, const Quat& orientation,
                          int mat, double density, std::int64_t user_id) {
-  const int b = add_body(centre, orientation, density * tmpl.volume,
-                         density * tmpl.principal_moments, mat, true, user_id);
+  return add_body_with_elements(centre, orientation, density * tmpl.volume,
+                                density * tmpl.principal_moments, mat, true, user_id, tmpl.spheres);
+}
+
+int Particles::add_body_with_elements(const Vec3& centre, const Quat& orientation, double m,
+                                      const Vec3& I, int mat, bool clump, std::int64_t user_id,
+                                      const std::vector<SphereShape>& elements) {
+  const int b = add_body(centre, orientation, m, I, mat, clump, user_id);
   const Mat3 R = q[b].toRotationMatrix();
-  for (const auto& s : tmpl.spheres) {
+  for (const auto& s : elements) {
     pos.push_back(centre + R * s.centre);
     offset.push_back(s.centre);
     radius.push_back(s.radius);
@@ -55,6 +54,22 @@ int Particles::add_clump(const ClumpTemplate& tmpl, const Vec3& centre, const Qu
   }
   first_element.push_back(num_elements());
   return b;
+}
+
+Particles Particles::subset(const std::vector<char>& keep) const {
+  Particles out;
+  for (int b = 0; b < num_bodies(); ++b) {
+    if (!keep[b]) continue;
+    std::vector<SphereShape> elements;
+    for (int e = first_element[b]; e < first_element[b + 1]; ++e)
+      elements.push_back({offset[e], radius[e]});
+    const int k = out.add_body_with_elements(x[b], q[b], mass[b], inertia[b], body_material[b],
+                                             is_clump[b], id[b], elements);
+    out.v[k] = v[b], out.w[k] = w[b], out.L[k] = L[b];
+    for (int e = first_element[b], o = out.first_element[k]; e < first_element[b + 1]; ++e, ++o)
+      out.material[o] = material[e], out.pos[o] = pos[e];
+  }
+  return out;
 }
 
 namespace {
@@ -142,6 +157,13 @@ double Particles::kinetic_energy() const {
     e += 0.5 * wb.dot(inertia[b].cwiseProduct(wb));
   }
   return e;
+}
+
+double Particles::bounding_radius(int b) const {
+  double r = 0;
+  for (int e = first_element[b]; e < first_element[b + 1]; ++e)
+    r = std::max(r, offset[e].norm() + radius[e]);
+  return r;
 }
 
 double Particles::max_element_radius() const {

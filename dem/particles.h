@@ -47,6 +47,15 @@ struct Particles {
   // with its centroid at `centre` and principal frame rotated by `orientation`.
   int add_clump(const ClumpTemplate& tmpl, const Vec3& centre, const Quat& orientation, int mat,
                 double density, std::int64_t user_id);
+  // Adds a body given completely: centre of mass, orientation of its principal frame, mass,
+  // principal moments and its elements (centres in the principal frame, radii; one material).
+  // A ball is a body with one element at offset zero and is_clump false. Used to restore a
+  // saved sample exactly.
+  int add_body_with_elements(const Vec3& centre, const Quat& orientation, double m, const Vec3& I,
+                             int mat, bool clump, std::int64_t user_id,
+                             const std::vector<SphereShape>& elements);
+  // The bodies with keep[b] true, in their current order, with their full state.
+  Particles subset(const std::vector<char>& keep) const;
 
   // Reorders the bodies (and their elements) along a space-filling order of cells of size
   // `cell`, so that neighbours in space are neighbours in memory: the contact loop then reads
@@ -58,6 +67,8 @@ struct Particles {
   Mat3 world_inertia(int b) const;
   double kinetic_energy() const;
   double max_element_radius() const;
+  // Largest distance of a point of body b's elements from its centre of mass.
+  double bounding_radius(int b) const;
 
  private:
   int add_body(const Vec3& centre, const Quat& q, double m, const Vec3& I, int mat, bool clump,

@@ -4,6 +4,9 @@
 #pragma once
 
 #include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
 
 #include "dem/clump_template.h"
 #include "dem/material.h"
@@ -25,5 +28,16 @@ struct RandomPackingSpec {
 // Appends the bodies to `particles`; throws InputError if the box cannot take them all.
 void add_random_packing(const RandomPackingSpec& spec, const MaterialTable& materials,
                         Particles& particles);
+
+// The placement itself: centres for spheres of the given (bounding) radii, each wholly inside
+// the box and overlapping none placed before, placed largest first (ties in the given order)
+// with up to `attempts_per_body` tries each. Returns the centres in the order of `radii`. Throws
+// InputError, naming `what`, if some sphere finds no room.
+std::vector<Vec3> random_sequential_positions(const std::vector<double>& radii, const Vec3& lower,
+                                              const Vec3& upper, std::mt19937_64& rng,
+                                              int attempts_per_body, const std::string& what);
+
+// A uniformly random rotation (Shoemake 1992, "Uniform random rotations", Graphics Gems III).
+Quat random_rotation(std::mt19937_64& rng);
 
 }  // namespace trackbed::dem

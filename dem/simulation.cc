@@ -8,28 +8,11 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "dem/contact_history.h"
 #include "dem/input_error.h"
 #include "dem/rigid_rotation.h"
 
 namespace trackbed::dem {
-
-// History of the particle-particle springs, aligned with the neighbour list.
-struct Simulation::PairHistory {
-  std::vector<Vec3> shear;
-  std::vector<Vec3> roll;  // empty unless some pair has rolling resistance
-  std::vector<double> fn;  // normal force of the last step (0: not touching)
-};
-
-// Candidates of one wall: elements within reach at the last build, with their history. For a
-// mesh, an element can touch up to kSlots features at once (a concave corner).
-struct Simulation::WallHistory {
-  static constexpr int kSlots = 4;
-  std::vector<int> element;
-  // Plane walls: one slot. Meshes: kSlots per element, plus the candidate triangles.
-  std::vector<Vec3> shear, roll, normal;
-  std::vector<double> fn;
-  std::vector<int> triangle_offsets, triangles;
-};
 
 // Per-thread force accumulators (thread 0 writes the real arrays).
 struct Simulation::ThreadScratch {
@@ -106,16 +89,45 @@ void Simulation::setup() {
   p_.update_element_positions();
   rebuild();
   check_initial_overlaps();
+  if (settings_.time_step == 0)
+    settings_.time_step = settings_.critical_fraction * critical_timestep();
+  set_time_step(settings_.time_step);
+  ready_ = true;
+}
+
+void Simulation::set_time_step(double dt) {
   const double dt_crit = critical_timestep();
-  if (settings_.time_step == 0) settings_.time_step = settings_.critical_fraction * dt_crit;
-  if (settings_.time_step > dt_crit && !settings_.allow_supercritical_step) {
+  if (!(dt > 0) || (dt > dt_crit && !settings_.allow_supercritical_step)) {
     std::ostringstream s;
-    s << "simulation: time step = " << settings_.time_step << " s is above the critical timestep "
-      << dt_crit << " s of this model (PFC estimate); valid: a time step <= " << dt_crit
+    s << "simulation: time step = " << dt << " s is above the critical timestep " << dt_crit
+      << " s of this model (PFC estimate); valid: a time step <= " << dt_crit
       << " s, or set 'allow timestep above critical = true' to force it";
     throw InputError(s.str());
   }
-  ready_ = true;
+  settings_.time_step = dt;
+}
+
+void Simulation::particles_changed() {
+  if (!ready_) return;  // setup() will see the new geometry
+  for (int b = 0; b < p_.num_bodies(); ++b)
+    if (p_.is_clump[b]) p_.L[b] = p_.world_inertia(b) * p_.w[b];
+  p_.update_element_positions(parallel_);
+  // Growth spends the skin like motion does: a pair whose radii grew by g each is still listed
+  // while motion + growth stays within skin/2 per element.
+  double growth = 0;
+  for (int e = 0; e < p_.num_elements(); ++e)
+    growth = std::max(growth, p_.radius[e] - radius_at_build_[e]);
+  growth_since_build_ = growth;
+  if (needs_rebuild()) rebuild();
+}
+
+void Simulation::set_materials(MaterialTable materials) {
+  if (materials.size() != materials_.size())
+    throw std::invalid_argument("Simulation::set_materials: the number of materials changed");
+  materials.validate();
+  materials_ = std::move(materials);
+  // Switching rolling resistance on or off resizes the rolling springs.
+  if (ready_) rebuild();
 }
 
 void Simulation::rebuild() {
@@ -144,7 +156,7 @@ void Simulation::rebuild() {
           ++b;
         } else {
           h.shear[b] = old.shear[a];
-          if (rolling) h.roll[b] = old.roll[a];
+          if (rolling && !old.roll.empty()) h.roll[b] = old.roll[a];
           h.fn[b] = old.fn[a];
           ++a, ++b;
         }
@@ -200,6 +212,8 @@ void Simulation::rebuild() {
   }
 
   pos_at_build_ = p_.pos;
+  radius_at_build_ = p_.radius;
+  growth_since_build_ = 0;
   plane_point_at_build_.clear();
   for (const auto& w : planes_) plane_point_at_build_.push_back(w.point);
   for (const auto& m : meshes_) plane_point_at_build_.push_back(m.x);
@@ -209,7 +223,8 @@ void Simulation::rebuild() {
 }
 
 bool Simulation::needs_rebuild() const {
-  const double half = 0.5 * settings_.skin;
+  const double half = 0.5 * settings_.skin - growth_since_build_;
+  if (half <= 0) return true;
   const double limit = half * half;
   const int n = p_.num_elements();
   int moved = 0;
@@ -849,6 +864,23 @@ double Simulation::max_wall_contact_force() const {
     for (std::size_t k = 0; k < wh.fn.size(); ++k)
       if (wh.fn[k] > 0) m = std::max(m, std::hypot(wh.fn[k], wh.shear[k].norm()));
   return m;
+}
+
+double Simulation::unbalanced_force_ratio() const {
+  const int nb = p_.num_bodies();
+  std::vector<double> applied(nb, 0.0);
+  for_each_contact([&](const ContactRecord& c) {
+    const double f = c.force.norm();
+    applied[p_.body[c.element_j]] += f;
+    if (c.element_i >= 0) applied[p_.body[c.element_i]] += f;
+  });
+  double unbalanced = 0, total = 0;
+  for (int b = 0; b < nb; ++b) {
+    const Vec3 weight = p_.mass[b] * settings_.gravity;
+    unbalanced += (p_.f[b] + weight).norm();
+    total += applied[b] + weight.norm();
+  }
+  return total > 0 ? unbalanced / total : 0.0;
 }
 
 void Simulation::check_finite() const {

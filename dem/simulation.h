@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "dem/contact_law.h"
+#include "dem/contact_state.h"
 #include "dem/material.h"
 #include "dem/mesh_body.h"
 #include "dem/neighbor_list.h"
@@ -73,11 +74,28 @@ class Simulation {
 
   // Builds contacts and checks the start: overlaps, timestep against the critical one.
   void setup();
+  bool is_set_up() const { return ready_; }
   void step();
+  // After the caller edited the particles' geometry or mass between steps (element offsets and
+  // radii, masses, inertia, bodies moved): recomputes the element positions and rebuilds the
+  // contact lists if the motion plus the growth of radii since the last build exceed half the
+  // skin, keeping the springs of the pairs that stay in the lists.
+  void particles_changed();
+  // Replaces the material table (same number of materials, e.g. another friction for a stage of
+  // a sample build); the contact springs are kept.
+  void set_materials(MaterialTable materials);
+  // The springs of the live contacts, keyed by body id (see contact_state.h), and their
+  // restoration into a model set up from the same bodies in any order (after setup()).
+  // Restoring returns the number of contacts that found their pair in the current lists.
+  ContactState contact_state() const;
+  int restore_contact_state(const ContactState& state);
 
   double time() const { return time_; }
   long step_count() const { return steps_; }
   double time_step() const { return settings_.time_step; }
+  // Changes the step between steps (a stage of a build with other contacts). Throws InputError
+  // above the critical step, unless the settings allow it, like setup().
+  void set_time_step(double dt);
   const SimulationSettings& settings() const { return settings_; }
   const MaterialTable& materials() const { return materials_; }
   const Particles& particles() const { return p_; }
@@ -100,6 +118,11 @@ class Simulation {
   // and against walls/meshes, N.
   double max_particle_contact_force() const;
   double max_wall_contact_force() const;
+  // PFC's mean unbalanced force ratio over the particles, after a step: the mean over bodies of
+  // |sum of contact forces + weight| over the mean of (sum of the contact force magnitudes +
+  // |weight|). 0 for a model in exact static equilibrium; of order 1 in free flight. Bodies with
+  // no contact and no weight count as balanced.
+  double unbalanced_force_ratio() const;
   // Checks the state for NaN; throws a std::runtime_error naming the first bad body.
   void check_finite() const;
 
@@ -143,6 +166,8 @@ class Simulation {
   std::unique_ptr<PairHistory> pair_history_;
   std::vector<WallHistory> plane_history_;
   std::vector<Vec3> pos_at_build_;
+  std::vector<double> radius_at_build_;
+  double growth_since_build_ = 0;  // largest radius growth since the last build (particles_changed)
   std::vector<Vec3> plane_point_at_build_;  // planes, then mesh reference points
   std::vector<Quat> mesh_q_at_build_;
   std::unique_ptr<std::vector<ThreadScratch>> scratch_;

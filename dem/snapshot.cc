@@ -2,7 +2,9 @@
 
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <stdexcept>
 #include <vector>
 
@@ -66,6 +68,47 @@ std::vector<double> pack3(const std::vector<Vec3>& v) {
 
 void unpack3(const std::vector<double>& d, std::vector<Vec3>& v) {
   for (std::size_t i = 0; i < v.size(); ++i) v[i] = Vec3(d[3 * i], d[3 * i + 1], d[3 * i + 2]);
+}
+
+// Opens a snapshot for reading by a tool that has no model to check it against.
+Handle open_snapshot_file(const std::string& path) {
+  if (!std::filesystem::is_regular_file(path))
+    throw InputError(path + ": no such snapshot file; valid: an existing trackbed snapshot (.h5)");
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported by us, in one line
+  const hid_t raw = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (raw < 0) throw InputError(path + ": cannot open as HDF5; valid: a trackbed snapshot (.h5)");
+  return Handle(raw, H5Fclose, "open " + path);
+}
+
+Handle open_group(hid_t file, const std::string& path, const char* name) {
+  if (H5Lexists(file, name, H5P_DEFAULT) <= 0)
+    throw InputError(path + ": group '" + name + "' is missing; valid: a trackbed snapshot");
+  return Handle(H5Gopen2(file, name, H5P_DEFAULT), H5Gclose, std::string("group ") + name);
+}
+
+// Number of values in a dataset whose size the reader does not know beforehand.
+hsize_t dataset_size(hid_t parent, const std::string& file, const char* name) {
+  if (H5Lexists(parent, name, H5P_DEFAULT) <= 0)
+    throw InputError(file + ": dataset '" + name + "' is missing; valid: a trackbed snapshot");
+  Handle set(H5Dopen2(parent, name, H5P_DEFAULT), H5Dclose, std::string("open ") + name);
+  Handle space(H5Dget_space(set), H5Sclose, "dataspace");
+  return static_cast<hsize_t>(H5Sget_simple_extent_npoints(space));
+}
+
+// A dataset that must hold `per_item` values for each of `count` items (bodies, elements).
+std::vector<double> read_per_item(hid_t parent, const std::string& file, const char* name,
+                                  hsize_t count, hsize_t per_item, const char* items) {
+  const hsize_t n = dataset_size(parent, file, name);
+  if (n != count * per_item)
+    throw InputError(file + ": dataset '" + name + "' has " + std::to_string(n) +
+                     " values; valid: " + std::to_string(per_item) + " for each of the " +
+                     std::to_string(count) + " " + items + " (a trackbed snapshot)");
+  return read_array(parent, file, name, n);
+}
+
+SnapshotClock read_clock(hid_t file, const std::string& path) {
+  const auto clock = read_array(file, path, "clock", 2);
+  return {clock[0], static_cast<long>(clock[1])};
 }
 
 }  // namespace
@@ -156,6 +199,48 @@ void read_snapshot(const std::string& path, Simulation& sim) {
   }
   p.update_element_positions();
   sim.set_time(clock[0], static_cast<long>(clock[1]));
+}
+
+SnapshotClock read_snapshot_clock(const std::string& path) {
+  Handle file = open_snapshot_file(path);
+  return read_clock(file, path);
+}
+
+SnapshotBodies read_snapshot_bodies(const std::string& path) {
+  Handle file = open_snapshot_file(path);
+  SnapshotBodies out;
+  const SnapshotClock clock = read_clock(file, path);
+  out.time = clock.time, out.step = clock.step;
+  Handle bodies = open_group(file, path, "bodies");
+  const hsize_t nb = dataset_size(bodies, path, "id");
+  const auto id = read_array(bodies, path, "id", nb);
+  out.id.assign(id.begin(), id.end());
+  out.position.resize(nb);
+  unpack3(read_per_item(bodies, path, "position", nb, 3, "bodies"), out.position);
+  Handle elements = open_group(file, path, "elements");
+  const hsize_t ne = dataset_size(elements, path, "radius");
+  const auto radius = read_array(elements, path, "radius", ne);
+  const auto body = read_per_item(elements, path, "body", ne, 1, "elements");
+  std::vector<Vec3> pos(ne);
+  unpack3(read_per_item(elements, path, "position", ne, 3, "elements"), pos);
+  out.bounding_radius.assign(nb, 0.0);
+  for (hsize_t e = 0; e < ne; ++e) {
+    const double b = body[e];
+    if (!(b >= 0 && b < static_cast<double>(nb)) || b != static_cast<double>(static_cast<long>(b)))
+      throw InputError(path + ": element " + std::to_string(e) + " belongs to body " +
+                       std::to_string(b) + "; valid: the index of one of the file's " +
+                       std::to_string(nb) + " bodies");
+    double& r = out.bounding_radius[static_cast<std::size_t>(b)];
+    r = std::max(r, (pos[e] - out.position[static_cast<std::size_t>(b)]).norm() + radius[e]);
+  }
+  Handle walls = open_group(file, path, "walls");
+  const hsize_t nm3 = dataset_size(walls, path, "mesh_position");
+  if (nm3 % 3 != 0)
+    throw InputError(path + ": dataset 'mesh_position' has " + std::to_string(nm3) +
+                     " values; valid: three per mesh body");
+  out.mesh_position.resize(nm3 / 3);
+  unpack3(read_array(walls, path, "mesh_position", nm3), out.mesh_position);
+  return out;
 }
 
 }  // namespace trackbed::dem

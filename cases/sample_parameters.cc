@@ -1,0 +1,302 @@
+// The only translation unit of `trackbed build-sample` that includes deal.II: declares every
+// sample-file parameter (units, defaults, ranges) and reads them into SampleParameters.
+#include "cases/sample_parameters.h"
+
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+#include "cases/prm_support.h"
+#include "dem/grading.h"
+#include "dem/input_error.h"
+#include "dem/zone.h"
+
+namespace trackbed::cases {
+
+using dealii::ParameterHandler;
+using dealii::Patterns::Anything;
+using dealii::Patterns::Bool;
+using dealii::Patterns::Double;
+using dealii::Patterns::Integer;
+using dealii::Patterns::List;
+using dealii::Patterns::Selection;
+
+namespace {
+
+const char* const kPresets = "all-ball|all-clump|half-by-height|optimised|custom";
+
+void declare_material(ParameterHandler& prm, const dem::Material& m, const std::string& role) {
+  prm.enter_subsection(m.name);
+  prm.declare_entry("density", std::to_string(m.density), Double(1e-9), "kg/m^3 (" + role + ")");
+  std::ostringstream kn, ks, mu, mur, alpha;
+  kn << m.normal_stiffness, ks << m.shear_stiffness, mu << m.friction, mur << m.rolling_friction,
+      alpha << m.local_damping;
+  prm.declare_entry("normal stiffness", kn.str(), Double(1e-9, 1e15),
+                    "Entity normal stiffness, N/m (pairs combine in series)");
+  prm.declare_entry("shear stiffness", ks.str(), Double(0, 1e15), "Entity shear stiffness, N/m");
+  prm.declare_entry("friction", mu.str(), Double(0, 100), "Coulomb friction coefficient");
+  prm.declare_entry("rolling friction", mur.str(), Double(0, 100),
+                    "Rolling resistance coefficient mu_r (balls; 0: none)");
+  prm.declare_entry("local damping", alpha.str(), Double(0, 0.999), "Local damping alpha");
+  prm.leave_subsection();
+}
+
+void read_material(ParameterHandler& prm, dem::Material& m) {
+  prm.enter_subsection(m.name);
+  m.density = prm.get_double("density");
+  m.normal_stiffness = prm.get_double("normal stiffness");
+  m.shear_stiffness = prm.get_double("shear stiffness");
+  m.friction = prm.get_double("friction");
+  m.rolling_friction = prm.get_double("rolling friction");
+  m.local_damping = prm.get_double("local damping");
+  prm.leave_subsection();
+}
+
+void declare(ParameterHandler& prm) {
+  const dem::SampleBuildSettings b;
+  const dem::TrackSection& s = b.section;
+  auto num = [](double v) {
+    std::ostringstream o;
+    o << v;
+    return o.str();
+  };
+  prm.enter_subsection("section");
+  prm.declare_entry("sleeper length", num(s.sleeper_length), Double(1e-3, 100),
+                    "m, across the track (x, the push direction)");
+  prm.declare_entry("sleeper width", num(s.sleeper_width), Double(1e-3, 100),
+                    "m, along the track (y)");
+  prm.declare_entry("sleeper height", num(s.sleeper_height), Double(1e-3, 100), "m");
+  prm.declare_entry("sleeper mass", num(s.sleeper_mass), Double(1e-6, 1e6), "kg");
+  prm.declare_entry("depth under sleeper", num(s.depth_under_sleeper), Double(1e-3, 100),
+                    "m of ballast between the base (z = 0) and the sleeper bottom");
+  prm.declare_entry("shoulder width", num(s.shoulder_width), Double(0, 100),
+                    "m of crest beyond each sleeper end");
+  prm.declare_entry("slope", num(s.slope), Double(0, 100),
+                    "Horizontal per vertical of the shoulder slopes (1:1.75 -> 1.75)");
+  prm.declare_entry("length", num(s.length), Double(1e-3, 1000),
+                    "m along the track: one sleeper spacing, crib walls at +-length/2");
+  prm.declare_entry("boundary", "walls", Selection("walls|periodic"),
+                    "Along the track: frictionless crib walls (symmetry planes) or periodic");
+  prm.leave_subsection();
+
+  prm.enter_subsection("grading");
+  prm.declare_entry("file", "", Anything(),
+                    "Sieve table CSV (columns size in m, passing in %); empty: EN 13450 31.5/63");
+  prm.leave_subsection();
+
+  prm.enter_subsection("materials");
+  declare_material(prm, b.materials.ballast, "stones and the base");
+  declare_material(prm, b.materials.sleeper, "the sleeper");
+  declare_material(prm, b.materials.wall, "crib and mould walls");
+  prm.leave_subsection();
+
+  prm.enter_subsection("build");
+  prm.declare_entry("target porosity", num(b.target_porosity), Double(0.2, 0.7),
+                    "Porosity under the sleeper that compaction aims at (reached from above)");
+  prm.declare_entry("overfill", num(b.overfill), Double(0, 1),
+                    "Extra volume deposited above the crest, fraction of the box volume");
+  prm.declare_entry("cloud solid fraction", num(b.cloud_solid_fraction), Double(0.01, 0.35),
+                    "Solid fraction of the loose cloud placed by random addition");
+  prm.declare_entry("deposition damping", num(b.deposition_damping), Double(0, 0.999),
+                    "Ballast local damping while the cloud falls");
+  prm.declare_entry("preparation damping ratio", num(b.preparation_damping), Double(0, 1),
+                    "Normal dashpot (fraction of critical) of the ballast's contacts while the "
+                    "sample is built and converted: it damps the rattling of stones");
+  prm.declare_entry("deposition friction factor", "auto", Anything(),
+                    "Ballast friction factor while the bed is deposited, in [0, 1]; auto: "
+                    "calibrated for the target porosity by depositions of a small box");
+  std::string factors;
+  for (double f : b.calibration.factors) factors += (factors.empty() ? "" : ", ") + num(f);
+  prm.declare_entry("calibration friction factors", factors, List(Double(0, 1), 2),
+                    "Friction factors of the calibration depositions (auto)");
+  prm.declare_entry("stage ratio", num(b.stage_ratio), Double(1e-8, 0.5),
+                    "Mean unbalanced force ratio ending the intermediate stages");
+  prm.declare_entry("equilibrium ratio", num(b.equilibrium_ratio), Double(1e-8, 0.5),
+                    "Mean unbalanced force ratio of the finished sample");
+  prm.declare_entry("maximum stage time", num(b.max_stage_time), Double(1e-3, 1e3),
+                    "s simulated per stage at most");
+  prm.declare_entry("time step", "0", Double(0, 1),
+                    "s; 0: critical timestep fraction x the critical step of the loose cloud");
+  prm.declare_entry("critical timestep fraction", num(b.critical_fraction), Double(1e-3, 1),
+                    "Of the loose cloud's critical step (one contact per body: 0.35 anticipates "
+                    "about 8 in the packed bed)");
+  prm.declare_entry("verlet skin", num(b.skin), Double(1e-6, 1), "m");
+  prm.declare_entry("seed", "1", Integer(0), "Seed of the grading draw and the cloud");
+  prm.declare_entry("threads", "0", Integer(0, 1024), "OpenMP threads; 0 = OMP_NUM_THREADS");
+  prm.leave_subsection();
+
+  const dem::ConversionSettings c;
+  prm.enter_subsection("zone");
+  prm.declare_entry("preset", "all-ball", Selection(kPresets),
+                    "Clumps where: all-ball (none), all-clump (all), half-by-height (above "
+                    "265/350 of the depth under the sleeper), optimised (under and beside the "
+                    "sleeper and the shoulder wedge at the pushed +x end), custom (clump zone)");
+  prm.declare_entry("clump zone", "", Anything(),
+                    "Zone expression (docs/zones.md) when preset = custom");
+  prm.declare_entry("base sample", "", Anything(),
+                    "Ball sample (.h5) whose balls are converted; empty: build it first");
+  prm.declare_entry("templates", "../templates/ballast/library.csv", Anything(),
+                    "Clump template library manifest (docs/templates.md)");
+  prm.declare_entry("template setting", "D120R0.5", Anything(),
+                    "Bubble-pack setting of the templates: D<distance>R<ratio>");
+  prm.declare_entry("mass from", "surface", Selection("surface|pebbles"),
+                    "Clump volume and inertia from the stone surface (PFC) or the pebble union");
+  prm.declare_entry("growth time", num(c.growth_time), Double(1e-4, 10),
+                    "s over which converted clumps grow to full size");
+  prm.declare_entry("growth friction factor", num(c.growth_friction_factor), Double(0, 1),
+                    "Ballast friction and rolling factor while the clumps grow");
+  prm.declare_entry("equilibrium ratio", num(c.equilibrium_ratio), Double(1e-8, 0.5),
+                    "Mean unbalanced force ratio of the converted sample");
+  prm.declare_entry("maximum settling time", num(c.max_stage_time), Double(1e-3, 1e3),
+                    "s simulated for the final equilibrium at most");
+  prm.declare_entry("seed", "1", Integer(0), "Seed of the template choice and orientations");
+  prm.leave_subsection();
+
+  prm.enter_subsection("output");
+  prm.declare_entry("folder", "results/samples/section", Anything(),
+                    "Results folder (relative to the working directory)");
+  prm.declare_entry("progress interval", "5", Double(0), "Wall seconds between progress lines");
+  prm.declare_entry("vtu", "true", Bool(), "Write ParaView files of the finished sample");
+  prm.declare_entry("plot", "true", Bool(), "Write grading.png and sample.png (matplotlib)");
+  prm.leave_subsection();
+}
+
+std::string num_text(double v) {
+  return dem::exact_number_text(v);
+}
+
+}  // namespace
+
+std::string preset_zone(const std::string& preset, const dem::TrackSection& s) {
+  if (preset == "all-ball") return "none";
+  if (preset == "all-clump") return "all";
+  // The paper's half-by-height model: balls in the bottom 265 mm, clumps in the 80 mm under the
+  // sleeper (depth 350 mm) and in the crib; kept in proportion for other depths.
+  const double split = s.depth_under_sleeper * 265.0 / 350.0;
+  if (preset == "half-by-height") return "halfspace(0, 0, " + num_text(split) + ", 0, 0, -1)";
+  if (preset == "optimised") {
+    // Under and beside the sleeper down to 50 mm (at depth 350 mm) below it, and the shoulder
+    // wedge in front of the pushed (+x) end, from that level at the sleeper end up to the crest
+    // edge: 20 % of the ballast volume of the paper's section, as its 5,036 of 24,394 stones.
+    const double bottom = s.depth_under_sleeper * (1 - 50.0 / 350.0);
+    const double top = s.crest_z() + s.sleeper_height;  // above every stone centre
+    const double half = 0.5 * s.sleeper_length, y = s.length;
+    return "box(" + num_text(-half) + ", " + num_text(-y) + ", " + num_text(bottom) + ", " +
+           num_text(half) + ", " + num_text(y) + ", " + num_text(top) + ") | prism(y, " +
+           num_text(-y) + ", " + num_text(y) + ", " + num_text(half) + ", " + num_text(bottom) +
+           ", " + num_text(s.half_crest_width()) + ", " + num_text(s.crest_z()) + ", " +
+           num_text(s.half_crest_width()) + ", " + num_text(top) + ", " + num_text(half) + ", " +
+           num_text(top) + ")";
+  }
+  throw dem::InputError("zone preset '" + preset + "' is unknown; valid: " + kPresets);
+}
+
+SampleParameters read_sample_file(const std::string& path) {
+  namespace fs = std::filesystem;
+  ParameterHandler prm;
+  declare(prm);
+  parse_parameter_file(prm, path, "trackbed build-sample --print-parameters");
+  const fs::path base = fs::absolute(path).parent_path();
+  auto resolve = [&](const std::string& f) {
+    return f.empty() || fs::path(f).is_absolute() ? f : (base / f).lexically_normal().string();
+  };
+
+  SampleParameters p;
+  p.file = path;
+  dem::SampleBuildSettings& b = p.build;
+  dem::TrackSection& s = b.section;
+  prm.enter_subsection("section");
+  s.sleeper_length = prm.get_double("sleeper length");
+  s.sleeper_width = prm.get_double("sleeper width");
+  s.sleeper_height = prm.get_double("sleeper height");
+  s.sleeper_mass = prm.get_double("sleeper mass");
+  s.depth_under_sleeper = prm.get_double("depth under sleeper");
+  s.shoulder_width = prm.get_double("shoulder width");
+  s.slope = prm.get_double("slope");
+  s.length = prm.get_double("length");
+  s.periodic = prm.get("boundary") == "periodic";
+  prm.leave_subsection();
+  s.validate(path);
+
+  prm.enter_subsection("grading");
+  const std::string grading = resolve(prm.get("file"));
+  if (!grading.empty()) b.grading = dem::read_sieve_table_csv(grading);
+  prm.leave_subsection();
+
+  prm.enter_subsection("materials");
+  for (dem::Material* m : {&b.materials.ballast, &b.materials.sleeper, &b.materials.wall})
+    read_material(prm, *m);
+  prm.leave_subsection();
+
+  prm.enter_subsection("build");
+  b.target_porosity = prm.get_double("target porosity");
+  b.overfill = prm.get_double("overfill");
+  b.cloud_solid_fraction = prm.get_double("cloud solid fraction");
+  b.deposition_damping = prm.get_double("deposition damping");
+  b.preparation_damping = prm.get_double("preparation damping ratio");
+  p.conversion.preparation_damping = b.preparation_damping;
+  const std::string friction = prm.get("deposition friction factor");
+  if (friction == "auto") {
+    b.deposition_friction = -1;
+  } else {
+    char* end = nullptr;
+    b.deposition_friction = std::strtod(friction.c_str(), &end);
+    if (end == friction.c_str() || *end != '\0' || !(b.deposition_friction >= 0) ||
+        b.deposition_friction > 1)
+      throw dem::InputError(path + ": build/deposition friction factor = '" + friction +
+                            "'; valid: auto or a number in [0, 1]");
+  }
+  b.calibration.factors = dealii::Utilities::string_to_double(
+      dealii::Utilities::split_string_list(prm.get("calibration friction factors")));
+  b.stage_ratio = prm.get_double("stage ratio");
+  b.equilibrium_ratio = prm.get_double("equilibrium ratio");
+  b.max_stage_time = prm.get_double("maximum stage time");
+  b.time_step = prm.get_double("time step");
+  b.critical_fraction = prm.get_double("critical timestep fraction");
+  b.skin = prm.get_double("verlet skin");
+  b.seed = prm.get_integer("seed");
+  p.threads = prm.get_integer("threads");
+  prm.leave_subsection();
+
+  prm.enter_subsection("zone");
+  p.preset = prm.get("preset");
+  const std::string custom = prm.get("clump zone");
+  if (p.preset == "custom" && custom.empty())
+    throw dem::InputError(path +
+                          ": zone/clump zone is empty; valid: a zone expression "
+                          "(docs/zones.md) when zone/preset = custom");
+  if (p.preset != "custom" && !custom.empty())
+    throw dem::InputError(path + ": zone/clump zone is given but zone/preset = " + p.preset +
+                          "; valid: preset = custom with a clump zone, or no clump zone");
+  p.zone_text = p.preset == "custom" ? custom : preset_zone(p.preset, s);
+  // Parsed here so that a bad zone stops the run before anything is built.
+  dem::parse_zone(p.zone_text, path + ": zone/clump zone", base.string());
+  p.base_sample = resolve(prm.get("base sample"));
+  p.templates = resolve(prm.get("templates"));
+  p.template_setting = prm.get("template setting");
+  p.mass_from =
+      prm.get("mass from") == "surface" ? dem::MassSource::surface : dem::MassSource::pebbles;
+  p.conversion.growth_time = prm.get_double("growth time");
+  p.conversion.growth_friction_factor = prm.get_double("growth friction factor");
+  p.conversion.equilibrium_ratio = prm.get_double("equilibrium ratio");
+  p.conversion.max_stage_time = prm.get_double("maximum settling time");
+  p.conversion.seed = prm.get_integer("seed");
+  p.conversion.skin = b.skin;
+  prm.leave_subsection();
+
+  prm.enter_subsection("output");
+  p.output_folder = prm.get("folder");
+  p.progress_interval = prm.get_double("progress interval");
+  p.vtu = prm.get_bool("vtu");
+  p.plot = prm.get_bool("plot");
+  prm.leave_subsection();
+  return p;
+}
+
+void print_sample_parameters(std::ostream& out) {
+  ParameterHandler prm;
+  declare(prm);
+  prm.print_parameters(out, ParameterHandler::PRM);
+}
+
+}  // namespace trackbed::cases

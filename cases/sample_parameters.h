@@ -1,0 +1,45 @@
+// The contents of a sample file (.prm, deal.II ParameterHandler syntax) for `trackbed
+// build-sample`: the section, the grading, the materials, the build and the zone of clumps.
+// Only sample_parameters.cc sees deal.II. Parameters, units and defaults: docs/samples.md and
+// `trackbed build-sample --print-parameters`.
+#pragma once
+
+#include <iosfwd>
+#include <string>
+
+#include "dem/bubble_pack.h"
+#include "dem/clump_conversion.h"
+#include "dem/sample_builder.h"
+
+namespace trackbed::cases {
+
+struct SampleParameters {
+  std::string file;                // the sample file this came from
+  dem::SampleBuildSettings build;  // section, materials, grading and the build stages
+  // Zone of clumps: a preset or an expression (dem/zone.h). all-ball builds the ball sample;
+  // anything else converts the balls in the zone of `base_sample` (built first when empty).
+  std::string preset = "all-ball";
+  std::string zone_text;  // the zone: the preset's expression, or the custom one
+  std::string base_sample;
+  std::string templates;  // library manifest
+  std::string template_setting = "D120R0.5";
+  dem::MassSource mass_from = dem::MassSource::surface;
+  dem::ConversionSettings conversion;
+  int threads = 0;
+  // output
+  std::string output_folder = "results/samples/section";
+  double progress_interval = 5;
+  bool vtu = true, plot = true;
+};
+
+// Reads and validates a sample file; relative paths in it resolve against its folder. Throws
+// dem::InputError with one line naming the file and the parameter.
+SampleParameters read_sample_file(const std::string& path);
+void print_sample_parameters(std::ostream& out);
+
+// The zone expression of a preset for a section, with the push toward +x: all-clump, all-ball,
+// half-by-height, optimised (docs/samples.md, "Zone presets"). Throws InputError for an unknown
+// name, listing the valid ones.
+std::string preset_zone(const std::string& preset, const dem::TrackSection& section);
+
+}  // namespace trackbed::cases

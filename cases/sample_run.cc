@@ -1,0 +1,280 @@
+#include "cases/sample_run.h"
+
+#include <omp.h>
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
+
+#include "dem/atomic_file.h"
+#include "dem/clump_conversion.h"
+#include "dem/input_error.h"
+#include "dem/porosity.h"
+#include "dem/sample_builder.h"
+#include "dem/template_library.h"
+#include "dem/vtu_writer.h"
+#include "dem/zone.h"
+
+namespace trackbed::cases {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+std::string json_escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += static_cast<unsigned char>(c) < 0x20 ? ' ' : c;
+  }
+  return out;
+}
+
+std::string number(double v) {
+  if (!std::isfinite(v)) return "null";
+  std::ostringstream s;
+  s << std::setprecision(10) << v;
+  return s.str();
+}
+
+// The smallest sieve with 100 % passing: the largest stone a table allows.
+double largest_stone(const dem::SieveTable& t) {
+  for (std::size_t k = 0; k < t.size.size(); ++k)
+    if (t.passing[k] >= 100) return t.size[k];
+  return t.size.back();
+}
+
+}  // namespace
+
+SampleRun::SampleRun(SampleParameters parameters) : prm_(std::move(parameters)) {}
+
+void SampleRun::connect(dem::StageRunner& runner) {
+  runner.progress_seconds = prm_.progress_interval;
+  runner.on_progress = [](const std::string& line) { std::cout << line << std::endl; };
+  runner.on_sample = [this](const dem::SettleSample& s) { history_.push_back(s); };
+}
+
+dem::Sample SampleRun::build_ball_sample() {
+  dem::SampleBuilder builder(prm_.build);
+  connect(builder.runner());
+  std::cout << "trackbed: building the ball sample of the section" << std::endl;
+  dem::Sample sample = builder.run();
+  const dem::BuildReport& r = builder.report();
+  stages_.insert(stages_.end(), r.stages.begin(), r.stages.end());
+  notes_.push_back({"stones_drawn", number(r.stones_drawn)});
+  notes_.push_back({"deposition_friction_factor", number(r.deposition_friction_factor)});
+  notes_.push_back({"porosity_after_deposition", number(r.porosity)});
+  for (const auto& c : r.calibration)
+    notes_.push_back(
+        {"calibration_porosity_at_friction_x" + number(c.friction_factor), number(c.porosity)});
+  if (prm_.preset == "all-ball") write_outputs(sample, builder.simulation(), nullptr);
+  return sample;
+}
+
+dem::Sample SampleRun::convert(const dem::Sample& base) {
+  const dem::ZonePtr zone = dem::parse_zone(prm_.zone_text, prm_.file + ": zone/clump zone",
+                                            fs::absolute(prm_.file).parent_path().string());
+  auto templates =
+      dem::read_template_library(prm_.templates, prm_.template_setting, prm_.mass_from);
+  std::cout << "trackbed: converting the balls in zone " << zone->to_string() << " to clumps of "
+            << templates.size() << " templates " << prm_.template_setting << std::endl;
+  dem::ClumpConversion conversion(base, zone, std::move(templates), prm_.conversion);
+  connect(conversion.runner());
+  dem::Sample sample = conversion.run();
+  const dem::ConversionReport& r = conversion.report();
+  stages_.insert(stages_.end(), r.stages.begin(), r.stages.end());
+  notes_.push_back({"converted_balls", number(r.converted)});
+  notes_.push_back({"growth_start_scale_min", number(r.start_scale_min)});
+  notes_.push_back({"growth_start_scale_mean", number(r.start_scale_mean)});
+  write_outputs(sample, conversion.simulation(), &base);
+  return sample;
+}
+
+int SampleRun::run() {
+  start_ = std::chrono::steady_clock::now();
+  if (prm_.threads > 0) omp_set_num_threads(prm_.threads);
+  out_ = prm_.output_folder;
+  fs::create_directories(fs::path(out_) / "history");
+  if (prm_.preset == "all-ball") {
+    build_ball_sample();
+  } else if (!prm_.base_sample.empty()) {
+    const dem::Sample base = dem::read_sample(prm_.base_sample);
+    if (base.particles.num_clumps() > 0 && base.num_balls() == 0)
+      throw dem::InputError(prm_.base_sample +
+                            ": the base sample has no balls to convert; "
+                            "valid: a ball sample (zone preset all-ball)");
+    convert(base);
+  } else {
+    const dem::Sample base = build_ball_sample();
+    dem::write_sample(out_ + "/base.h5", base);
+    convert(base);
+  }
+  std::cout << "trackbed: results in " << out_ << std::endl;
+  return 0;
+}
+
+void SampleRun::write_outputs(const dem::Sample& sample, const dem::Simulation& sim,
+                              const dem::Sample* base) {
+  dem::write_sample(out_ + "/sample.h5", sample);
+  write_grading(sample, base);
+  write_history();
+  if (prm_.vtu) {
+    dem::particles_grid(sim).write(out_ + "/particles.vtu");
+    dem::contacts_grid(sim).write(out_ + "/contacts.vtu");
+    dem::walls_grid(sim).write(out_ + "/walls.vtu");
+    dem::PvdCollection pvd(out_ + "/sample.pvd");
+    for (const char* f : {"particles.vtu", "contacts.vtu", "walls.vtu"}) pvd.add(0, f);
+  }
+  write_summary(sample, sim);
+  if (prm_.plot) make_plots();
+}
+
+void SampleRun::write_grading(const dem::Sample& sample, const dem::Sample* base) {
+  const dem::SieveTable& t = prm_.build.grading;
+  auto passing = [&](const dem::Sample& s) {
+    return dem::passing_by_mass(s.sieve_size, s.particles.mass, t.size);
+  };
+  const auto now = passing(sample);
+  std::vector<double> before;
+  if (base) before = passing(*base);
+  dem::AtomicFile csv(out_ + "/grading.csv");
+  csv.stream() << "# " << t.source << "; percent by mass passing\nsize,target,sample"
+               << (base ? ",base" : "") << "\n";
+  max_grading_error_ = 0;
+  for (std::size_t k = 0; k < t.size.size(); ++k) {
+    csv.stream() << t.size[k] << "," << t.passing[k] << "," << now[k];
+    if (base) csv.stream() << "," << before[k];
+    csv.stream() << "\n";
+    max_grading_error_ = std::max(max_grading_error_, std::abs(now[k] - t.passing[k]));
+  }
+  csv.commit();
+}
+
+void SampleRun::write_history() {
+  dem::AtomicFile csv(out_ + "/history/build.csv");
+  csv.stream() << std::setprecision(10) << "stage,time,step,ratio,kinetic_energy,contacts\n";
+  for (const auto& h : history_)
+    csv.stream() << '"' << h.stage << "\"," << h.time << "," << h.step << "," << h.ratio << ","
+                 << h.kinetic_energy << "," << h.contacts << "\n";
+  csv.commit();
+}
+
+void SampleRun::write_summary(const dem::Sample& sample, const dem::Simulation& sim) {
+  const dem::Particles& p = sample.particles;
+  const dem::TrackSection& section = prm_.build.section;
+  const double largest = largest_stone(prm_.build.grading);
+  const double spacing = 0.1 * prm_.build.grading.size.front();
+  dem::Vec3 lo, hi;
+  dem::porosity_box(section, largest, lo, hi);
+  const double core = dem::porosity_in_box(p, lo, hi, spacing).porosity;
+  const dem::Vec3 plo(-section.half_base_width(), -0.5 * section.length, 0);
+  const dem::Vec3 phi(section.half_base_width(), 0.5 * section.length, section.crest_z());
+  const double profile = dem::porosity_in_region(p, plo, phi, spacing, [&](const dem::Vec3& x) {
+                           return section.in_profile(x);
+                         }).porosity;
+  long steps = 0;
+  double simulated = 0;
+  for (const auto& s : stages_) steps += s.steps, simulated += s.simulated_time;
+  struct rusage usage;
+  getrusage(RUSAGE_SELF, &usage);
+  double sleeper_load = NAN, sleeper_bottom = NAN;
+  for (const auto& m : sim.meshes())
+    if (m.name == dem::SectionModel::kSleeperName) {
+      sleeper_load = m.contact_force.z();
+      sleeper_bottom = m.x.z() - 0.5 * section.sleeper_height;
+    }
+  // (key, label, unit, JSON value)
+  std::vector<std::tuple<std::string, std::string, std::string, std::string>> items = {
+      {"preset", "zone preset", "", '"' + prm_.preset + '"'},
+      {"zone", "clump zone", "", '"' + json_escape(sample.info_value("zone")) + '"'},
+      {"template_setting", "template setting", "",
+       prm_.preset == "all-ball" ? "null" : '"' + prm_.template_setting + '"'},
+      {"bodies", "bodies", "", number(p.num_bodies())},
+      {"balls", "balls", "", number(sample.num_balls())},
+      {"clumps", "clumps", "", number(p.num_clumps())},
+      {"elements", "sphere elements", "", number(p.num_elements())},
+      {"pebbles_per_clump", "pebbles per clump", "",
+       number(p.num_clumps() > 0 ? double(p.num_elements() - sample.num_balls()) / p.num_clumps()
+                                 : 0.0)},
+      {"contacts", "contacts", "", number(sim.num_contacts())},
+      {"porosity_under_sleeper", "porosity under the sleeper", "", number(core)},
+      {"porosity_profile", "porosity of the whole profile", "", number(profile)},
+      {"target_porosity", "target porosity", "", number(prm_.build.target_porosity)},
+      {"max_grading_error_percent", "largest sieve error of the grading", "% of mass",
+       number(max_grading_error_)},
+      {"mass_kg", "ballast mass", "kg", number([&] {
+         double m = 0;
+         for (double x : p.mass) m += x;
+         return m;
+       }())},
+      {"sleeper_load_n", "sleeper contact force z", "N", number(sleeper_load)},
+      {"sleeper_weight_n", "sleeper weight", "N", number(section.sleeper_mass * 9.81)},
+      {"sleeper_bottom_z_m", "sleeper bottom z", "m", number(sleeper_bottom)},
+      {"unbalanced_force_ratio", "mean unbalanced force ratio", "",
+       number(sim.unbalanced_force_ratio())},
+      {"time_step_s", "time step (last stage)", "s", number(sim.time_step())},
+      {"steps", "steps (all stages)", "", number(steps)},
+      {"simulated_time_s", "simulated time (all stages)", "s", number(simulated)},
+      {"wall_time_s", "wall time", "s", number(seconds_since(start_))},
+      {"threads", "threads", "", number(sim.team_size())},
+      {"peak_memory_mb", "peak resident memory", "MB", number(usage.ru_maxrss / 1024.0)},
+  };
+  for (const auto& [k, v] : notes_) items.push_back({k, k, "", v});
+
+  dem::AtomicFile json(out_ + "/summary.json");
+  json.stream() << "{\n  \"sample_file\": \"" << json_escape(prm_.file) << "\"";
+  for (const auto& [key, label, unit, value] : items)
+    json.stream() << ",\n  \"" << key << "\": " << value;
+  json.stream() << ",\n  \"stages\": [";
+  for (std::size_t k = 0; k < stages_.size(); ++k) {
+    const auto& s = stages_[k];
+    json.stream() << (k ? ",\n" : "\n") << "    {\"name\": \"" << json_escape(s.name)
+                  << "\", \"steps\": " << s.steps
+                  << ", \"simulated_time_s\": " << number(s.simulated_time)
+                  << ", \"wall_time_s\": " << number(s.wall_time)
+                  << ", \"time_step_s\": " << number(s.time_step)
+                  << ", \"final_ratio\": " << number(s.final_ratio)
+                  << ", \"converged\": " << (s.converged ? "true" : "false")
+                  << ", \"bodies\": " << s.bodies << ", \"elements\": " << s.elements << "}";
+  }
+  json.stream() << "\n  ]\n}\n";
+  json.commit();
+
+  dem::AtomicFile txt(out_ + "/summary.txt");
+  auto& t = txt.stream();
+  t << "trackbed sample: " << prm_.file << "\n";
+  for (const auto& [key, label, unit, value] : items) {
+    std::string v = value;
+    if (!v.empty() && v.front() == '"') v = v.substr(1, v.size() - 2);
+    t << "  " << std::left << std::setw(44) << label << " " << v << (unit.empty() ? "" : " ")
+      << unit << "\n";
+  }
+  t << "\n  " << std::left << std::setw(34) << "stage" << std::right << std::setw(9) << "steps"
+    << std::setw(11) << "time (s)" << std::setw(11) << "wall (s)" << std::setw(11) << "ratio"
+    << "  converged\n";
+  for (const auto& s : stages_)
+    t << "  " << std::left << std::setw(34) << s.name << std::right << std::setw(9) << s.steps
+      << std::setw(11) << std::setprecision(4) << s.simulated_time << std::setw(11)
+      << std::setprecision(4) << s.wall_time << std::setw(11) << std::setprecision(3)
+      << s.final_ratio << "  " << (s.converged ? "yes" : "NO") << "\n";
+  txt.commit();
+}
+
+void SampleRun::make_plots() {
+  const fs::path script = fs::path(TRACKBED_SOURCE_DIR) / "cases" / "plot_sample.py";
+  const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
+  const std::string cmd =
+      python + " '" + script.string() + "' '" + out_ + "' > '" + out_ + "/plot.log' 2>&1";
+  if (std::system(cmd.c_str()) != 0)
+    std::cout << "trackbed: warning: the plots failed (see " << out_ << "/plot.log)" << std::endl;
+}
+
+}  // namespace trackbed::cases

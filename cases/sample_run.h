@@ -1,0 +1,49 @@
+// `trackbed build-sample`: builds a track-bed sample as a sample file describes it and writes
+// its results folder (docs/samples.md):
+//   sample.h5                       the sample, for any case to load (particles/sample file)
+//   base.h5                         the ball sample a conversion started from (if built here)
+//   summary.json, summary.txt       counts, porosity, grading errors, stages, wall time, memory
+//   grading.csv, grading.png        the grading curve: target and sample
+//   history/build.csv               unbalanced force ratio, kinetic energy, contacts per check
+//   particles.vtu, contacts.vtu, walls.vtu, sample.pvd   ParaView
+//   sample.png                      a cross-section and a plan view drawn from particles.vtu
+#pragma once
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "cases/sample_parameters.h"
+#include "dem/sample.h"
+#include "dem/settling.h"
+
+namespace trackbed::cases {
+
+class SampleRun {
+ public:
+  explicit SampleRun(SampleParameters parameters);
+  // Returns the process exit status: 0 done.
+  int run();
+
+ private:
+  dem::Sample build_ball_sample();
+  dem::Sample convert(const dem::Sample& base);
+  void connect(dem::StageRunner& runner);
+  void write_outputs(const dem::Sample& sample, const dem::Simulation& sim,
+                     const dem::Sample* base);
+  void write_grading(const dem::Sample& sample, const dem::Sample* base);
+  void write_summary(const dem::Sample& sample, const dem::Simulation& sim);
+  void write_history();
+  void make_plots();
+
+  SampleParameters prm_;
+  std::string out_;
+  std::vector<dem::SettleSample> history_;
+  std::vector<dem::StageReport> stages_;
+  // Items of the summary that only the build or the conversion knows.
+  std::vector<std::pair<std::string, std::string>> notes_;
+  double max_grading_error_ = 0;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace trackbed::cases

@@ -1,0 +1,87 @@
+// Converting the balls of a sample inside a zone to clumps (the multi-layer shape model): each
+// ball becomes a clump of a library template, of the same volume and mass, at the ball's centre,
+// in a uniformly random orientation; the overlaps the angular shapes make with their neighbours
+// are relaxed by growing the clumps (docs/samples.md, "Converting balls to clumps"):
+//
+//   run():  replace()   balls in the zone -> clumps shrunk to fit inside their ball's sphere
+//           grow()      grow every clump to full size over growth_time, with the friction
+//                       lowered (growth_friction_factor), the sleeper held by its weight
+//           settle()    friction restored, the model run to equilibrium, the sleeper seated
+//
+// A ball of sieve size a becomes a clump whose sieve size is the template's, scaled: the volume
+// (and mass) is kept exactly, the sieve size changes by the template's shape (grading.md).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "dem/sample.h"
+#include "dem/section_model.h"
+#include "dem/settling.h"
+#include "dem/template_library.h"
+#include "dem/zone.h"
+
+namespace trackbed::dem {
+
+struct ConversionSettings {
+  double growth_time = 0.05;            // s simulated over which the clumps grow to full size
+  int growth_interval = 50;             // steps between two growth increments
+  double growth_friction_factor = 0.2;  // ballast friction (and rolling) factor while growing
+  double preparation_damping = 0.3;     // normal dashpot ratio while converting (section_model.h)
+  double equilibrium_ratio = 1e-4;
+  double max_stage_time = 4.0;     // s simulated for the final settling at most
+  double critical_fraction = 0.8;  // of the critical step of the converted model
+  double skin = 0.004;
+  std::uint64_t seed = 1;
+};
+
+struct ConversionReport {
+  std::vector<StageReport> stages;
+  int converted = 0;
+  double start_scale_min = 1, start_scale_mean = 1;  // growth start factors
+};
+
+class ClumpConversion {
+ public:
+  // The section and materials are those the base sample was built with (its info lines).
+  ClumpConversion(const Sample& base, ZonePtr zone, std::vector<LibraryTemplate> templates,
+                  ConversionSettings settings);
+
+  StageRunner& runner() { return runner_; }
+  // The model of the finished sample (after run()), for its outputs.
+  const Simulation& simulation() const { return *sim_; }
+  Sample run();
+  const ConversionReport& report() const { return report_; }
+
+ private:
+  struct Growing {
+    int first_element;              // of the body (indices after setup)
+    std::vector<SphereShape> full;  // its elements at full size, in its principal frame
+    double start_scale;
+  };
+  void replace();
+  void grow();
+  void settle();
+  void set_growth(double fraction);
+
+  const Sample& base_;
+  ZonePtr zone_;
+  std::vector<LibraryTemplate> templates_;
+  ConversionSettings settings_;
+  SectionModel model_;
+  StageRunner runner_;
+  ConversionReport report_;
+  Particles particles_;
+  std::map<std::int64_t, int> shape_of_id_;
+  std::map<std::int64_t, double> sieve_size_of_id_;
+  std::map<std::int64_t, double> start_scale_of_id_;
+  std::vector<Growing> growing_;
+  std::unique_ptr<Simulation> sim_;
+};
+
+// The section and materials recorded in a sample's info lines (SectionModel::info); throws
+// InputError naming the missing line.
+TrackSection section_of(const Sample& sample);
+SectionMaterials materials_of(const Sample& sample);
+
+}  // namespace trackbed::dem

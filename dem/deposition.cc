@@ -1,0 +1,42 @@
+#include "dem/deposition.h"
+
+#include <random>
+
+#include "dem/random_packing.h"
+
+namespace trackbed::dem {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+}
+
+Particles ball_cloud(const std::vector<double>& sizes, const Vec3& lower, const Vec3& upper,
+                     double solid_fraction, int material, double density, std::uint64_t seed) {
+  double solid = 0;
+  std::vector<double> radii;
+  for (double a : sizes) {
+    radii.push_back(0.5 * a);
+    solid += kPi / 6 * a * a * a;
+  }
+  const double area = (upper.x() - lower.x()) * (upper.y() - lower.y());
+  const Vec3 top(upper.x(), upper.y(), lower.z() + solid / (solid_fraction * area));
+  std::mt19937_64 rng(seed);
+  const auto centres = random_sequential_positions(radii, lower, top, rng, 2000, "loose cloud");
+  Particles p;
+  for (std::size_t k = 0; k < radii.size(); ++k)
+    p.add_ball(centres[k], radii[k], material, density, static_cast<std::int64_t>(k));
+  return p;
+}
+
+void deposit(Simulation& sim, const DepositionStages& stages, StageRunner& runner,
+             std::vector<StageReport>& reports) {
+  SettleCriterion c;
+  c.max_time = stages.max_stage_time;
+  c.ratio = 10 * stages.ratio;
+  reports.push_back(runner.settle(sim, "deposition", c));
+  sim.set_materials(stages.settle);
+  c.ratio = stages.ratio;
+  reports.push_back(runner.settle(sim, "settling", c));
+}
+
+}  // namespace trackbed::dem

@@ -1,0 +1,59 @@
+// Small helpers over the HDF5 C API shared by the engine's HDF5 files (snapshots, samples):
+// owned identifiers, 1-D/2-D double and integer datasets, string attributes. Errors: a failed
+// HDF5 call throws std::runtime_error; a dataset a reader needs but the file lacks, or of the
+// wrong size, throws InputError naming the file and what is valid.
+#pragma once
+
+#include <hdf5.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "dem/types.h"
+
+namespace trackbed::dem::hdf5 {
+
+// Owns an HDF5 identifier and closes it with the matching function.
+class Handle {
+ public:
+  Handle(hid_t id, herr_t (*close)(hid_t), const std::string& what);
+  ~Handle() { close_(id_); }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  operator hid_t() const { return id_; }
+
+ private:
+  hid_t id_;
+  herr_t (*close_)(hid_t);
+};
+
+// Opens a file for reading with HDF5's own error printing off; InputError naming `what` if it
+// is not an HDF5 file.
+hid_t open_for_reading(const std::string& path, const std::string& what);
+hid_t create_group(hid_t parent, const char* name);
+// InputError if the group is missing.
+hid_t open_group(hid_t parent, const std::string& file, const char* name);
+
+// rows x cols doubles (cols == 1: a 1-D dataset).
+void write_doubles(hid_t parent, const char* name, const double* data, hsize_t rows, hsize_t cols);
+void write_vectors(hid_t parent, const char* name, const std::vector<Vec3>& v);
+void write_integers(hid_t parent, const char* name, const std::vector<std::int64_t>& v);
+
+bool exists(hid_t parent, const char* name);
+// Exactly `expected` values (all of them if expected < 0).
+std::vector<double> read_doubles(hid_t parent, const std::string& file, const char* name,
+                                 long expected = -1);
+std::vector<Vec3> read_vectors(hid_t parent, const std::string& file, const char* name,
+                               long expected = -1);
+std::vector<std::int64_t> read_integers(hid_t parent, const std::string& file, const char* name,
+                                        long expected = -1);
+
+void write_string_attribute(hid_t object, const char* name, const std::string& value);
+// InputError if the attribute is missing.
+std::string read_string_attribute(hid_t object, const std::string& file, const char* name);
+// A list of strings as one attribute, joined by newlines (names never contain one).
+void write_strings(hid_t object, const char* name, const std::vector<std::string>& values);
+std::vector<std::string> read_strings(hid_t object, const std::string& file, const char* name);
+
+}  // namespace trackbed::dem::hdf5

@@ -1,0 +1,99 @@
+// Building the ball sample of a track section (docs/samples.md, "Building a sample"):
+//
+//   run():  draw_stones()      sizes from the sieve grading, enough to fill the deposition box
+//           calibrate()        the deposition friction that gives the target porosity, from
+//                              depositions of a small box (porosity_calibration.h)
+//           deposit()          a loose cloud falls and settles under gravity with that friction,
+//                              between the base, the crib walls and vertical mould walls at the
+//                              foot of the slopes; then the friction is restored
+//           trim()             keep the stones inside the design profile (cut the slopes, level
+//                              the crest) and clear the sleeper's box; remove the mould
+//           seat_sleeper()     place the sleeper and let it settle under its weight (servo) to
+//                              equilibrium
+//
+// Every stage ends on the mean unbalanced force ratio (settling.h).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "dem/grading.h"
+#include "dem/porosity_calibration.h"
+#include "dem/sample.h"
+#include "dem/section_model.h"
+#include "dem/settling.h"
+
+namespace trackbed::dem {
+
+struct SampleBuildSettings {
+  TrackSection section;
+  SectionMaterials materials;
+  SieveTable grading = en13450_ballast_grading();
+  double target_porosity = 0.40;  // under the sleeper, at the end of compaction
+  // Deposited volume beyond the section's box up to the crest, so that the settled bed stands
+  // above the crest everywhere before it is levelled.
+  double overfill = 0.08;
+  double cloud_solid_fraction = 0.30;  // of the loose cloud (random addition reaches ~0.35)
+  double deposition_damping = 0.3;     // ballast local damping while the cloud falls
+  double preparation_damping = 0.3;    // normal dashpot ratio of every stage (section_model.h)
+  // Ballast friction factor during deposition; < 0: calibrated for the target porosity.
+  double deposition_friction = -1;
+  CalibrationSettings calibration;  // factors tried; box and bed size are set from the section
+  double stage_ratio = 1e-3;        // equilibrium of the intermediate stages
+  double equilibrium_ratio = 1e-4;  // equilibrium of the finished sample
+  double max_stage_time = 4.0;      // s simulated per stage at most
+  double time_step = 0;             // s; 0: critical_fraction x the critical step of each stage
+  double critical_fraction = 0.35;
+  double skin = 0.004;
+  std::uint64_t seed = 1;
+};
+
+// The record of a build, for the summary.
+struct BuildReport {
+  std::vector<StageReport> stages;
+  int stones_drawn = 0;
+  std::vector<CalibrationPoint> calibration;  // empty when the friction was given
+  double deposition_friction_factor = 1;
+  double porosity = 0;  // under the sleeper, after deposition
+};
+
+class SampleBuilder {
+ public:
+  explicit SampleBuilder(SampleBuildSettings settings);
+
+  StageRunner& runner() { return runner_; }
+  // The model of the finished sample (after run()), for its outputs.
+  const Simulation& simulation() const { return *sim_; }
+  // Builds the ball sample. Throws InputError for invalid settings, std::runtime_error if a
+  // stage blows up.
+  Sample run();
+  const BuildReport& report() const { return report_; }
+
+ private:
+  void draw_stones();
+  void calibrate();
+  void deposit();
+  void trim();
+  void seat_sleeper();
+  SimulationSettings stage_settings() const;
+  double core_porosity(const Particles& p) const;
+  void next_stage(const Particles& particles, const StageWalls& walls,
+                  const StageMaterials& materials);
+
+  SampleBuildSettings settings_;
+  SectionModel model_;
+  StageRunner runner_;
+  BuildReport report_;
+  std::vector<double> sieve_size_;  // per stone id
+  Particles particles_;
+  std::unique_ptr<Simulation> sim_;
+};
+
+// The box under the sleeper in which a sample's porosity is measured: the sleeper's footprint
+// in x, the section length less one largest stone at each crib wall in y, and from one largest
+// stone above the base to the sleeper bottom in z.
+void porosity_box(const TrackSection& section, double largest_stone, Vec3& lower, Vec3& upper);
+
+}  // namespace trackbed::dem

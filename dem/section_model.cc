@@ -1,0 +1,185 @@
+#include "dem/section_model.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "dem/input_error.h"
+#include "dem/triangle_mesh.h"
+
+namespace trackbed::dem {
+
+SectionMaterials::SectionMaterials() {
+  // Jia, Markine and Guo (2023), Table 2: ballast-ballast contacts 2e7 N/m (entity 4e7 in series,
+  // docs/theory.md section 3), friction 0.5, local damping 0.7; the sleeper 5e9 N/m.
+  ballast.name = "ballast";
+  ballast.density = 2800;
+  ballast.normal_stiffness = ballast.shear_stiffness = 4e7;
+  ballast.friction = 0.5;
+  ballast.rolling_friction = 0.3;
+  ballast.local_damping = 0.7;
+  sleeper.name = "sleeper";
+  sleeper.density = 2500;
+  sleeper.normal_stiffness = sleeper.shear_stiffness = 5e9;
+  sleeper.friction = 0.5;
+  wall.name = "wall";
+  wall.normal_stiffness = wall.shear_stiffness = 4e7;
+  wall.friction = 0;
+}
+
+SectionModel::SectionModel(TrackSection section, SectionMaterials materials,
+                           SimulationSettings settings, double preparation_damping)
+    : section_(section),
+      materials_(std::move(materials)),
+      settings_(settings),
+      preparation_damping_(preparation_damping) {
+  check_range("build: preparation damping ratio", preparation_damping, 0, 1);
+}
+
+MaterialTable SectionModel::material_table(const StageMaterials& stage) const {
+  Material ballast = materials_.ballast;
+  ballast.friction *= stage.friction_factor;
+  ballast.rolling_friction *= stage.rolling_factor;
+  if (stage.local_damping) ballast.local_damping = *stage.local_damping;
+  ballast.normal_damping_ratio = preparation_damping_;
+  MaterialTable t;
+  t.add(ballast);
+  t.add(materials_.sleeper);
+  t.add(materials_.wall);
+  return t;
+}
+
+namespace {
+
+PlaneWall plane(const std::string& name, const Vec3& point, const Vec3& normal, int material) {
+  PlaneWall w;
+  w.name = name;
+  w.point = point;
+  w.normal = normal;
+  w.material = material;
+  return w;
+}
+
+}  // namespace
+
+Simulation SectionModel::make(Particles particles, const StageWalls& walls,
+                              const StageMaterials& stage,
+                              const std::optional<MeshBody>& sleeper_body) const {
+  Simulation sim(material_table(stage), std::move(particles), settings_);
+  const TrackSection& s = section_;
+  sim.add_plane(plane("base", Vec3::Zero(), Vec3::UnitZ(), 0));
+  if (!s.periodic) {
+    sim.add_plane(plane("crib_front", Vec3(0, -0.5 * s.length, 0), Vec3::UnitY(), 2));
+    sim.add_plane(plane("crib_back", Vec3(0, 0.5 * s.length, 0), -Vec3::UnitY(), 2));
+  }
+  if (walls.mould) {
+    sim.add_plane(plane("mould_left", Vec3(-s.half_base_width(), 0, 0), Vec3::UnitX(), 2));
+    sim.add_plane(plane("mould_right", Vec3(s.half_base_width(), 0, 0), -Vec3::UnitX(), 2));
+  }
+  if (walls.sleeper) {
+    MeshBody body;
+    if (sleeper_body) {
+      body = *sleeper_body;
+    } else {
+      const TriangleMesh box = make_box_mesh(s.sleeper_lower(), s.sleeper_upper(), true);
+      body = MeshBody::from_world_mesh(kSleeperName, box, 1, 1.0, Vec3::Zero());
+      // The box's own inertia distribution, scaled to the sleeper's mass.
+      body.inertia *= s.sleeper_mass / body.mass;
+      body.mass = s.sleeper_mass;
+    }
+    body.material = 1;
+    body.weight = true;
+    for (auto& d : body.dof) d = DofControl{};
+    DofControl& z = body.dof[2];
+    z.mode = DofMode::servo;
+    z.value = body.mass * settings_.gravity.z();  // the weight, downward
+    z.max_speed = 0.05;
+    sim.add_mesh_body(std::move(body));
+  }
+  return sim;
+}
+
+bool SectionModel::sleeper_seated(const Simulation& sim) const {
+  for (const MeshBody& m : sim.meshes()) {
+    if (m.name != kSleeperName) continue;
+    const double weight = std::abs(m.mass * settings_.gravity.z());
+    return std::abs(m.contact_force.z() - weight) <= 0.01 * weight && m.v.norm() < 1e-4;
+  }
+  return true;
+}
+
+Sample SectionModel::to_sample(const Simulation& sim,
+                               const std::map<std::int64_t, int>& shape_of_id,
+                               const std::map<std::int64_t, double>& sieve_size_of_id,
+                               const std::vector<std::string>& shapes) const {
+  Sample out;
+  out.particles = sim.particles();
+  for (int i = 0; i < sim.materials().size(); ++i) out.materials.push_back(sim.materials()[i].name);
+  for (const auto id : out.particles.id) {
+    const auto size = sieve_size_of_id.find(id);
+    if (size == sieve_size_of_id.end())
+      throw std::logic_error("SectionModel::to_sample: no sieve size for body " +
+                             std::to_string(id));
+    const auto shape = shape_of_id.find(id);
+    out.shape.push_back(shape == shape_of_id.end() ? -1 : shape->second);
+    out.sieve_size.push_back(size->second);
+  }
+  out.shapes = shapes;
+  out.planes = sim.planes();
+  out.meshes = sim.meshes();
+  out.contacts = sim.contact_state();
+  out.info = info();
+  return out;
+}
+
+std::vector<std::pair<std::string, std::string>> SectionModel::info() const {
+  auto num = [](double v) {
+    std::ostringstream s;
+    s.precision(10);
+    s << v;
+    return s.str();
+  };
+  const TrackSection& s = section_;
+  std::vector<std::pair<std::string, std::string>> out = {
+      {"section/sleeper length", num(s.sleeper_length)},
+      {"section/sleeper width", num(s.sleeper_width)},
+      {"section/sleeper height", num(s.sleeper_height)},
+      {"section/sleeper mass", num(s.sleeper_mass)},
+      {"section/depth under sleeper", num(s.depth_under_sleeper)},
+      {"section/shoulder width", num(s.shoulder_width)},
+      {"section/slope", num(s.slope)},
+      {"section/length", num(s.length)},
+      {"section/boundary", s.periodic ? "periodic" : "walls"},
+  };
+  for (const Material* m : {&materials_.ballast, &materials_.sleeper, &materials_.wall}) {
+    const std::string k = "material/" + m->name + "/";
+    out.push_back({k + "density", num(m->density)});
+    out.push_back({k + "normal stiffness", num(m->normal_stiffness)});
+    out.push_back({k + "shear stiffness", num(m->shear_stiffness)});
+    out.push_back({k + "friction", num(m->friction)});
+    out.push_back({k + "rolling friction", num(m->rolling_friction)});
+    out.push_back({k + "local damping", num(m->local_damping)});
+  }
+  return out;
+}
+
+std::vector<char> bodies_in_section(const Particles& p, const TrackSection& section) {
+  const Vec3 lo = section.sleeper_lower(), hi = section.sleeper_upper();
+  std::vector<char> keep(p.num_bodies(), 0);
+  for (int b = 0; b < p.num_bodies(); ++b) {
+    const Vec3& c = p.x[b];
+    const bool in_prism = c.z() >= 0 && c.z() <= section.crest_z() &&
+                          std::abs(c.y()) <= 0.5 * section.length &&
+                          std::abs(c.x()) <= section.half_base_width() - section.slope * c.z();
+    bool clear = true;
+    for (int e = p.first_element[b]; e < p.first_element[b + 1] && clear; ++e) {
+      // Distance from the element centre to the sleeper's box.
+      const Vec3 d = (lo - p.pos[e]).cwiseMax(p.pos[e] - hi).cwiseMax(0.0);
+      clear = d.norm() >= p.radius[e];
+    }
+    keep[b] = in_prism && clear;
+  }
+  return keep;
+}
+
+}  // namespace trackbed::dem

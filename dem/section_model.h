@@ -1,0 +1,84 @@
+// The DEM model of a track section at each stage of a sample build: its materials (with the
+// stage's friction and damping), the walls (base, crib walls, and the temporary mould walls at the
+// foot of the slopes during deposition) and the sleeper with the degrees of freedom of seating.
+// Shared by the ball-sample build (sample_builder.h) and the zone conversion (clump_conversion.h).
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "dem/material.h"
+#include "dem/sample.h"
+#include "dem/simulation.h"
+#include "dem/track_section.h"
+
+namespace trackbed::dem {
+
+// Material names are fixed, so that a case loading the sample finds them: "ballast" (stones and
+// the base), "sleeper", "wall" (crib and mould walls: frictionless by default, since a crib wall
+// stands for the symmetry plane halfway to the next sleeper, where no shear acts).
+struct SectionMaterials {
+  Material ballast, sleeper, wall;
+  SectionMaterials();
+};
+
+// What a stage changes in the materials.
+struct StageMaterials {
+  double friction_factor = 1;  // scales the ballast friction (and the ballast-sleeper friction)
+  double rolling_factor = 1;   // scales the ballast rolling friction
+  std::optional<double> local_damping;  // replaces the ballast local damping
+};
+
+struct StageWalls {
+  bool mould = false;    // vertical walls at x = +-half_base_width (deposition)
+  bool sleeper = false;  // the sleeper mesh (from `sleeper_body`, or at its design position)
+};
+
+class SectionModel {
+ public:
+  // `preparation_damping` is the normal dashpot of the ballast's contacts, a fraction of
+  // critical (PFC dp_mode 1), added at every stage: it damps the rattling of stones that local
+  // damping, acting on the resultant force of a body only, leaves (docs/samples.md,
+  // "Equilibrium"). A sample at rest carries no trace of it.
+  SectionModel(TrackSection section, SectionMaterials materials, SimulationSettings settings,
+               double preparation_damping = 0);
+
+  const TrackSection& section() const { return section_; }
+  const SectionMaterials& materials() const { return materials_; }
+  MaterialTable material_table(const StageMaterials& stage = {}) const;
+
+  // A model of `particles` with the stage's walls. The sleeper is `sleeper_body` if given (a
+  // loaded sample's, at its seated pose) or a box at its design position; its vertical DOF is a
+  // servo holding its weight (PFC's servo, automatic gain), every other DOF fixed.
+  Simulation make(Particles particles, const StageWalls& walls, const StageMaterials& stage = {},
+                  const std::optional<MeshBody>& sleeper_body = std::nullopt) const;
+  // The sleeper carries its weight to within 1 % and has stopped (below 1e-4 m/s): the extra
+  // condition of a seating stage.
+  bool sleeper_seated(const Simulation& sim) const;
+
+  // The sample of a model's current state: bodies, walls, sleeper and contact springs, with the
+  // shapes and sieve sizes of the bodies by id (a body missing from `sieve_size` is refused).
+  Sample to_sample(const Simulation& sim, const std::map<std::int64_t, int>& shape_of_id,
+                   const std::map<std::int64_t, double>& sieve_size_of_id,
+                   const std::vector<std::string>& shapes) const;
+
+  // The info lines every sample carries: the section and material parameters.
+  std::vector<std::pair<std::string, std::string>> info() const;
+
+  static constexpr const char* kSleeperName = "sleeper";
+
+ private:
+  TrackSection section_;
+  SectionMaterials materials_;
+  SimulationSettings settings_;
+  double preparation_damping_;
+};
+
+// Bodies whose centre lies in the design profile's trapezoid prism (above the base, at most at
+// the crest, inside the slopes and the section length) and none of whose elements reaches into
+// the sleeper's box: what is kept of a deposited bed when it is trimmed to the section.
+std::vector<char> bodies_in_section(const Particles& p, const TrackSection& section);
+
+}  // namespace trackbed::dem

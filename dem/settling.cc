@@ -1,0 +1,90 @@
+#include "dem/settling.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace trackbed::dem {
+
+namespace {
+
+StageReport report_of(const Simulation& sim, const std::string& stage, long steps, double wall,
+                      double ratio, bool converged) {
+  StageReport r;
+  r.name = stage;
+  r.steps = steps;
+  r.simulated_time = steps * sim.time_step();
+  r.wall_time = wall;
+  r.final_ratio = ratio;
+  r.converged = converged;
+  r.bodies = sim.particles().num_bodies();
+  r.elements = sim.particles().num_elements();
+  r.contacts = sim.num_contacts();
+  r.time_step = sim.time_step();
+  return r;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+}  // namespace
+
+void StageRunner::check(const Simulation& sim, const std::string& stage, long steps, double ratio,
+                        Clock::time_point start, double max_time) {
+  const double t = steps * sim.time_step();
+  const double ke = sim.particles().kinetic_energy();
+  if (on_sample) on_sample({stage, t, steps, ratio, ke, sim.num_contacts()});
+  if (!on_progress || seconds_since(last_progress_) < progress_seconds) return;
+  last_progress_ = Clock::now();
+  const double wall = seconds_since(start);
+  const double rate = wall > 0 ? steps / wall : 0;
+  char line[256];
+  std::snprintf(line, sizeof line,
+                "%s: t = %.4f s | step %ld | %.0f steps/s | %.2e sphere-steps/s | ratio %.2e | "
+                "KE %.2e J | contacts %d | at most %.0f s left",
+                stage.c_str(), t, steps, rate, rate * sim.particles().num_elements(), ratio, ke,
+                sim.num_contacts(), rate > 0 ? (max_time - t) / sim.time_step() / rate : NAN);
+  on_progress(line);
+}
+
+StageReport StageRunner::settle(Simulation& sim, const std::string& stage,
+                                const SettleCriterion& c) {
+  const auto start = Clock::now();
+  if (!sim.is_set_up()) sim.setup();
+  const long max_steps = static_cast<long>(std::ceil(c.max_time / sim.time_step()));
+  const long min_steps = static_cast<long>(std::ceil(c.min_time / sim.time_step()));
+  long steps = 0;
+  int below = 0;
+  double ratio = NAN;
+  while (steps < max_steps) {
+    for (int k = 0; k < c.check_interval && steps < max_steps; ++k, ++steps) sim.step();
+    sim.check_finite();
+    ratio = sim.unbalanced_force_ratio();
+    check(sim, stage, steps, ratio, start, c.max_time);
+    if (steps < min_steps) continue;
+    below = ratio <= c.ratio && (!c.also || c.also(sim)) ? below + 1 : 0;
+    if (below >= c.confirmations)
+      return report_of(sim, stage, steps, seconds_since(start), ratio, true);
+  }
+  return report_of(sim, stage, steps, seconds_since(start), ratio, false);
+}
+
+StageReport StageRunner::run_for(Simulation& sim, const std::string& stage, double duration,
+                                 const std::function<void(long)>& each_step, int check_interval) {
+  const auto start = Clock::now();
+  if (!sim.is_set_up()) sim.setup();
+  const long n = static_cast<long>(std::ceil(duration / sim.time_step()));
+  double ratio = NAN;
+  for (long steps = 0; steps < n;) {
+    for (int k = 0; k < check_interval && steps < n; ++k, ++steps) {
+      if (each_step) each_step(steps);
+      sim.step();
+    }
+    sim.check_finite();
+    ratio = sim.unbalanced_force_ratio();
+    check(sim, stage, steps, ratio, start, duration);
+  }
+  return report_of(sim, stage, n, seconds_since(start), ratio, true);
+}
+
+}  // namespace trackbed::dem

@@ -1,0 +1,71 @@
+// Running a model to static equilibrium, the building block of every stage of a sample build.
+//
+// Equilibrium is judged by PFC's mean unbalanced force ratio (Simulation::
+// unbalanced_force_ratio): the stage ends once the ratio has stayed at or below `ratio` for
+// `confirmations` checks in a row, `check_interval` steps apart, and any extra condition of the
+// stage holds (e.g. a sleeper's load balanced). A stage that reaches `max_time` first ends
+// unconverged; the report says so and the caller decides (docs/samples.md, "Equilibrium").
+#pragma once
+
+#include <chrono>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "dem/simulation.h"
+
+namespace trackbed::dem {
+
+struct SettleCriterion {
+  double ratio = 1e-4;  // mean unbalanced force ratio to reach
+  int confirmations = 3;
+  double min_time = 0;       // s simulated before the ratio is looked at
+  double max_time = 5;       // s simulated at most
+  int check_interval = 500;  // steps
+  // Further condition checked with the ratio (empty: none).
+  std::function<bool(const Simulation&)> also;
+};
+
+struct StageReport {
+  std::string name;
+  long steps = 0;
+  double simulated_time = 0;  // s
+  double wall_time = 0;       // s
+  double final_ratio = 0;
+  bool converged = false;
+  int bodies = 0, elements = 0, contacts = 0;
+  double time_step = 0;
+};
+
+// One row of a build's history, written at every check.
+struct SettleSample {
+  std::string stage;
+  double time;  // s, simulated since the stage began
+  long step;
+  double ratio, kinetic_energy;
+  int contacts;
+};
+
+class StageRunner {
+ public:
+  // Called at every check (history) and, at most every `progress_seconds` of wall time, with a
+  // printable progress line.
+  std::function<void(const SettleSample&)> on_sample;
+  std::function<void(const std::string&)> on_progress;
+  double progress_seconds = 5;
+
+  // Steps `sim` (set up by the caller or here) until the criterion holds or max_time passes.
+  StageReport settle(Simulation& sim, const std::string& stage, const SettleCriterion& c);
+  // Steps `sim` for a fixed simulated time, calling `each_step(step index)` before every step
+  // (a growth schedule, a moving boundary), with the same history and progress.
+  StageReport run_for(Simulation& sim, const std::string& stage, double duration,
+                      const std::function<void(long)>& each_step, int check_interval = 500);
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  void check(const Simulation& sim, const std::string& stage, long steps, double ratio,
+             Clock::time_point start, double max_time);
+  Clock::time_point last_progress_{};
+};
+
+}  // namespace trackbed::dem

@@ -1,0 +1,42 @@
+// The single-sleeper track section: the ballast cross-section under and around one sleeper,
+// one sleeper spacing long (Jia, Markine and Guo 2023; ../shared/seed-facts.md).
+//
+// Frame: x across the track, along the sleeper (the lateral push direction); y along the track;
+// z up, the base at z = 0. The sleeper is centred on x = y = 0 with its bottom at
+// z = depth_under_sleeper. The ballast fills, for |y| <= length/2, the trapezoid whose crest
+// (at the top of the sleeper, crest_z) reaches shoulder_width beyond each sleeper end and whose
+// slopes fall 1 : slope (vertical : horizontal) to the base; the crib between sleepers is filled
+// to the crest; the sleeper's own box is not ballast.
+#pragma once
+
+#include "dem/types.h"
+
+namespace trackbed::dem {
+
+struct TrackSection {
+  double sleeper_length = 2.6;        // m, along x
+  double sleeper_width = 0.28;        // m, along y
+  double sleeper_height = 0.185;      // m
+  double sleeper_mass = 380;          // kg
+  double depth_under_sleeper = 0.35;  // m, ballast between base and sleeper bottom
+  double shoulder_width = 0.5;        // m, crest beyond each sleeper end
+  double slope = 1.75;                // horizontal per vertical
+  double length = 0.6;    // m, along y (one sleeper spacing; walls or periodic at +-length/2)
+  bool periodic = false;  // along y: periodic boundary instead of crib walls
+
+  double crest_z() const { return depth_under_sleeper + sleeper_height; }
+  double half_crest_width() const { return 0.5 * sleeper_length + shoulder_width; }
+  double half_base_width() const { return half_crest_width() + slope * crest_z(); }
+  Vec3 sleeper_lower() const;
+  Vec3 sleeper_upper() const;
+  Vec3 sleeper_centre() const { return 0.5 * (sleeper_lower() + sleeper_upper()); }
+
+  // Inside the ballast's design profile (the trapezoid prism without the sleeper's box).
+  bool in_profile(const Vec3& x) const;
+  // Volume of the design profile, m^3: trapezoid area times length minus the sleeper box.
+  double profile_volume() const;
+  // Throws InputError naming the parameter for a non-physical section.
+  void validate(const std::string& where) const;
+};
+
+}  // namespace trackbed::dem
