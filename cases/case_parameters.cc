@@ -59,19 +59,7 @@ void declare(ParameterHandler& prm) {
     prm.enter_subsection("material " + std::to_string(i));
     prm.declare_entry("name", i == 0 ? "ballast" : "material" + std::to_string(i), Anything(),
                       "Name used by particles, walls and pairs");
-    prm.declare_entry("density", "2800", Double(1e-9), "kg/m^3");
-    prm.declare_entry("normal stiffness", "2e7", Double(1e-9, 1e15),
-                      "Entity normal stiffness, N/m (pairs combine in series unless a contact "
-                      "pair gives its own value)");
-    prm.declare_entry("shear stiffness", "2e7", kStiffness, "Entity shear stiffness, N/m");
-    prm.declare_entry("friction", "0.5", kFriction, "Coulomb friction coefficient");
-    prm.declare_entry("rolling friction", "0", kFriction,
-                      "Rolling resistance coefficient mu_r (0: none)");
-    prm.declare_entry("normal damping ratio", "0", kRatio, "Normal dashpot, fraction of critical");
-    prm.declare_entry("shear damping ratio", "0", kRatio, "Shear dashpot, fraction of critical");
-    prm.declare_entry("normal damping rate", "0", Double(0, 1e9),
-                      "Normal dashpot as gamma_n in 1/s: F = gamma_n m_eff v_n (LAMMPS style)");
-    prm.declare_entry("local damping", "0", Double(0, 0.999), "Local damping coefficient alpha");
+    declare_material_values(prm, dem::Material());
     prm.leave_subsection();
   }
   prm.leave_subsection();
@@ -256,15 +244,7 @@ CaseParameters read_case_file(const std::string& path) {
     prm.enter_subsection("material " + std::to_string(i));
     dem::Material m;
     m.name = prm.get("name");
-    m.density = prm.get_double("density");
-    m.normal_stiffness = prm.get_double("normal stiffness");
-    m.shear_stiffness = prm.get_double("shear stiffness");
-    m.friction = prm.get_double("friction");
-    m.rolling_friction = prm.get_double("rolling friction");
-    m.normal_damping_ratio = prm.get_double("normal damping ratio");
-    m.shear_damping_ratio = prm.get_double("shear damping ratio");
-    m.normal_damping_rate = prm.get_double("normal damping rate");
-    m.local_damping = prm.get_double("local damping");
+    read_material_values(prm, m);
     c.materials.push_back(m);
     prm.leave_subsection();
   }

@@ -14,6 +14,7 @@
 #include <optional>
 #include <sstream>
 
+#include "cases/report_support.h"
 #include "dem/atomic_file.h"
 #include "dem/clump_template.h"
 #include "dem/input_error.h"
@@ -42,16 +43,6 @@ int material_index(const dem::MaterialTable& table, const std::string& name,
   } catch (const dem::InputError& e) {
     throw dem::InputError(where + ": " + e.what());
   }
-}
-
-std::string json_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    if (static_cast<unsigned char>(c) < 0x20) c = ' ';
-    out += c;
-  }
-  return out;
 }
 
 std::string hms(double seconds) {
@@ -504,14 +495,7 @@ void DemRun::write_summary(const std::string& status) {
 }
 
 void DemRun::make_plot() {
-  // matplotlib draws the plot; a missing python is a warning, not a failed run. Debian's
-  // python3 is the one with python3-matplotlib (a python first on the user's PATH may lack it).
-  const fs::path script = fs::path(TRACKBED_SOURCE_DIR) / "cases" / "plot_history.py";
-  const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-  const std::string cmd =
-      python + " '" + script.string() + "' '" + out_ + "' > '" + out_ + "/plot.log' 2>&1";
-  if (std::system(cmd.c_str()) != 0)
-    std::cout << "trackbed: warning: the plot failed (see " << out_ << "/plot.log)" << std::endl;
+  run_plot_script("plot_history.py", out_);
 }
 
 }  // namespace trackbed::cases

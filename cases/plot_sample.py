@@ -36,7 +36,10 @@ def plot_grading(folder):
     size = [1000 * float(r["size"]) for r in rows]
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     ax.plot(size, [float(r["target"]) for r in rows], "k-o", label="target (sieve table)")
-    ax.plot(size, [float(r["sample"]) for r in rows], "r--s", label="sample")
+    ax.plot(size, [float(r["sample"]) for r in rows], "r--s", label="sample (sieve size)")
+    if any(r["sample"] != r["sample_equivalent_diameter"] for r in rows):
+        ax.plot(size, [float(r["sample_equivalent_diameter"]) for r in rows], "g-.d",
+                label="sample (equivalent diameter)")
     if "base" in rows[0]:
         ax.plot(size, [float(r["base"]) for r in rows], "b:^", label="ball sample before conversion")
     ax.set_xscale("log")

@@ -9,6 +9,7 @@
 #include <exception>
 #include <string>
 
+#include "dem/material.h"
 #include "dem/types.h"
 
 namespace trackbed::cases {
@@ -17,6 +18,12 @@ void declare_vector(dealii::ParameterHandler& prm, const std::string& name, cons
                     const std::string& doc);
 dem::Vec3 vector_of(const dealii::ParameterHandler& prm, const std::string& name);
 std::array<double, 6> six_of(const dealii::ParameterHandler& prm, const std::string& name);
+// The entries of a material's subsection (density, stiffnesses, friction, rolling friction,
+// dashpots, local damping) with the values of `defaults`, and their reading; the caller enters
+// and leaves the subsection. `role` is added to the density's documentation.
+void declare_material_values(dealii::ParameterHandler& prm, const dem::Material& defaults,
+                             const std::string& role = "");
+void read_material_values(const dealii::ParameterHandler& prm, dem::Material& m);
 // deal.II's exception text is several lines; users get the "additional information" part as
 // one line.
 std::string one_line(const std::exception& e);

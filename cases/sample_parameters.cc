@@ -25,33 +25,6 @@ namespace {
 
 const char* const kPresets = "all-ball|all-clump|half-by-height|optimised|custom";
 
-void declare_material(ParameterHandler& prm, const dem::Material& m, const std::string& role) {
-  prm.enter_subsection(m.name);
-  prm.declare_entry("density", std::to_string(m.density), Double(1e-9), "kg/m^3 (" + role + ")");
-  std::ostringstream kn, ks, mu, mur, alpha;
-  kn << m.normal_stiffness, ks << m.shear_stiffness, mu << m.friction, mur << m.rolling_friction,
-      alpha << m.local_damping;
-  prm.declare_entry("normal stiffness", kn.str(), Double(1e-9, 1e15),
-                    "Entity normal stiffness, N/m (pairs combine in series)");
-  prm.declare_entry("shear stiffness", ks.str(), Double(0, 1e15), "Entity shear stiffness, N/m");
-  prm.declare_entry("friction", mu.str(), Double(0, 100), "Coulomb friction coefficient");
-  prm.declare_entry("rolling friction", mur.str(), Double(0, 100),
-                    "Rolling resistance coefficient mu_r (balls; 0: none)");
-  prm.declare_entry("local damping", alpha.str(), Double(0, 0.999), "Local damping alpha");
-  prm.leave_subsection();
-}
-
-void read_material(ParameterHandler& prm, dem::Material& m) {
-  prm.enter_subsection(m.name);
-  m.density = prm.get_double("density");
-  m.normal_stiffness = prm.get_double("normal stiffness");
-  m.shear_stiffness = prm.get_double("shear stiffness");
-  m.friction = prm.get_double("friction");
-  m.rolling_friction = prm.get_double("rolling friction");
-  m.local_damping = prm.get_double("local damping");
-  prm.leave_subsection();
-}
-
 void declare(ParameterHandler& prm) {
   const dem::SampleBuildSettings b;
   const dem::TrackSection& s = b.section;
@@ -85,9 +58,13 @@ void declare(ParameterHandler& prm) {
   prm.leave_subsection();
 
   prm.enter_subsection("materials");
-  declare_material(prm, b.materials.ballast, "stones and the base");
-  declare_material(prm, b.materials.sleeper, "the sleeper");
-  declare_material(prm, b.materials.wall, "crib and mould walls");
+  for (const auto& [m, role] : {std::pair{&b.materials.ballast, "stones and the base"},
+                                {&b.materials.sleeper, "the sleeper"},
+                                {&b.materials.wall, "crib and mould walls"}}) {
+    prm.enter_subsection(m->name);
+    declare_material_values(prm, *m, role);
+    prm.leave_subsection();
+  }
   prm.leave_subsection();
 
   prm.enter_subsection("build");
@@ -109,6 +86,9 @@ void declare(ParameterHandler& prm) {
   for (double f : b.calibration.factors) factors += (factors.empty() ? "" : ", ") + num(f);
   prm.declare_entry("calibration friction factors", factors, List(Double(0, 1), 2),
                     "Friction factors of the calibration depositions (auto)");
+  prm.declare_entry("tamping load factor", num(b.tamping_load_factor), Double(1, 1e4),
+                    "The sleeper is pressed into the bed with this many times its weight, then "
+                    "seated under its weight (1: no tamping)");
   prm.declare_entry("stage ratio", num(b.stage_ratio), Double(1e-8, 0.5),
                     "Mean unbalanced force ratio ending the intermediate stages");
   prm.declare_entry("equilibrium ratio", num(b.equilibrium_ratio), Double(1e-8, 0.5),
@@ -145,6 +125,8 @@ void declare(ParameterHandler& prm) {
                     "s over which converted clumps grow to full size");
   prm.declare_entry("growth friction factor", num(c.growth_friction_factor), Double(0, 1),
                     "Ballast friction and rolling factor while the clumps grow");
+  prm.declare_entry("orientation trials", std::to_string(c.orientation_trials), Integer(1, 1000),
+                    "Random orientations tried per clump; the one that fits largest is kept");
   prm.declare_entry("equilibrium ratio", num(c.equilibrium_ratio), Double(1e-8, 0.5),
                     "Mean unbalanced force ratio of the converted sample");
   prm.declare_entry("maximum settling time", num(c.max_stage_time), Double(1e-3, 1e3),
@@ -224,8 +206,11 @@ SampleParameters read_sample_file(const std::string& path) {
   prm.leave_subsection();
 
   prm.enter_subsection("materials");
-  for (dem::Material* m : {&b.materials.ballast, &b.materials.sleeper, &b.materials.wall})
-    read_material(prm, *m);
+  for (dem::Material* m : {&b.materials.ballast, &b.materials.sleeper, &b.materials.wall}) {
+    prm.enter_subsection(m->name);
+    read_material_values(prm, *m);
+    prm.leave_subsection();
+  }
   prm.leave_subsection();
 
   prm.enter_subsection("build");
@@ -248,6 +233,7 @@ SampleParameters read_sample_file(const std::string& path) {
   }
   b.calibration.factors = dealii::Utilities::string_to_double(
       dealii::Utilities::split_string_list(prm.get("calibration friction factors")));
+  b.tamping_load_factor = prm.get_double("tamping load factor");
   b.stage_ratio = prm.get_double("stage ratio");
   b.equilibrium_ratio = prm.get_double("equilibrium ratio");
   b.max_stage_time = prm.get_double("maximum stage time");
@@ -268,9 +254,9 @@ SampleParameters read_sample_file(const std::string& path) {
   if (p.preset != "custom" && !custom.empty())
     throw dem::InputError(path + ": zone/clump zone is given but zone/preset = " + p.preset +
                           "; valid: preset = custom with a clump zone, or no clump zone");
-  p.zone_text = p.preset == "custom" ? custom : preset_zone(p.preset, s);
+  p.zone_text = custom;
   // Parsed here so that a bad zone stops the run before anything is built.
-  dem::parse_zone(p.zone_text, path + ": zone/clump zone", base.string());
+  if (!custom.empty()) dem::parse_zone(custom, path + ": zone/clump zone", base.string());
   p.base_sample = resolve(prm.get("base sample"));
   p.templates = resolve(prm.get("templates"));
   p.template_setting = prm.get("template setting");
@@ -278,6 +264,7 @@ SampleParameters read_sample_file(const std::string& path) {
       prm.get("mass from") == "surface" ? dem::MassSource::surface : dem::MassSource::pebbles;
   p.conversion.growth_time = prm.get_double("growth time");
   p.conversion.growth_friction_factor = prm.get_double("growth friction factor");
+  p.conversion.orientation_trials = prm.get_integer("orientation trials");
   p.conversion.equilibrium_ratio = prm.get_double("equilibrium ratio");
   p.conversion.max_stage_time = prm.get_double("maximum settling time");
   p.conversion.seed = prm.get_integer("seed");

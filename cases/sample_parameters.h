@@ -19,7 +19,7 @@ struct SampleParameters {
   // Zone of clumps: a preset or an expression (dem/zone.h). all-ball builds the ball sample;
   // anything else converts the balls in the zone of `base_sample` (built first when empty).
   std::string preset = "all-ball";
-  std::string zone_text;  // the zone: the preset's expression, or the custom one
+  std::string zone_text;  // the custom zone (a preset's is made for the base sample's section)
   std::string base_sample;
   std::string templates;  // library manifest
   std::string template_setting = "D120R0.5";

@@ -10,11 +10,13 @@
 #include <iostream>
 #include <sstream>
 
+#include "cases/report_support.h"
 #include "dem/atomic_file.h"
 #include "dem/clump_conversion.h"
 #include "dem/input_error.h"
 #include "dem/porosity.h"
 #include "dem/sample_builder.h"
+#include "dem/section_model.h"
 #include "dem/template_library.h"
 #include "dem/vtu_writer.h"
 #include "dem/zone.h"
@@ -29,27 +31,11 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
-std::string json_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += static_cast<unsigned char>(c) < 0x20 ? ' ' : c;
-  }
-  return out;
-}
-
 std::string number(double v) {
   if (!std::isfinite(v)) return "null";
   std::ostringstream s;
   s << std::setprecision(10) << v;
   return s.str();
-}
-
-// The smallest sieve with 100 % passing: the largest stone a table allows.
-double largest_stone(const dem::SieveTable& t) {
-  for (std::size_t k = 0; k < t.size.size(); ++k)
-    if (t.passing[k] >= 100) return t.size[k];
-  return t.size.back();
 }
 
 }  // namespace
@@ -80,7 +66,10 @@ dem::Sample SampleRun::build_ball_sample() {
 }
 
 dem::Sample SampleRun::convert(const dem::Sample& base) {
-  const dem::ZonePtr zone = dem::parse_zone(prm_.zone_text, prm_.file + ": zone/clump zone",
+  // A preset's zone is that of the base sample's own section.
+  const std::string text =
+      prm_.preset == "custom" ? prm_.zone_text : preset_zone(prm_.preset, dem::section_of(base));
+  const dem::ZonePtr zone = dem::parse_zone(text, prm_.file + ": zone/clump zone",
                                             fs::absolute(prm_.file).parent_path().string());
   auto templates =
       dem::read_template_library(prm_.templates, prm_.template_setting, prm_.mass_from);
@@ -138,22 +127,33 @@ void SampleRun::write_outputs(const dem::Sample& sample, const dem::Simulation& 
 }
 
 void SampleRun::write_grading(const dem::Sample& sample, const dem::Sample* base) {
-  const dem::SieveTable& t = prm_.build.grading;
-  auto passing = [&](const dem::Sample& s) {
-    return dem::passing_by_mass(s.sieve_size, s.particles.mass, t.size);
+  // The sample's own records: a converted sample comes from a base built by another file.
+  const dem::SieveTable t = dem::grading_of(sample);
+  const double density = dem::materials_of(sample).ballast.density;
+  // By sieve size, and by the diameter of the sphere of the same volume, which the conversion
+  // to clumps keeps for every stone (for balls the two are the same).
+  auto passing = [&](const dem::Sample& s, bool equivalent) {
+    std::vector<double> size = s.sieve_size;
+    if (equivalent)
+      for (int b = 0; b < s.particles.num_bodies(); ++b)
+        size[b] = std::cbrt(6 * s.particles.mass[b] / (density * M_PI));
+    return dem::passing_by_mass(size, s.particles.mass, t.size);
   };
-  const auto now = passing(sample);
+  const auto now = passing(sample, false), now_eq = passing(sample, true);
   std::vector<double> before;
-  if (base) before = passing(*base);
+  if (base) before = passing(*base, false);
   dem::AtomicFile csv(out_ + "/grading.csv");
-  csv.stream() << "# " << t.source << "; percent by mass passing\nsize,target,sample"
-               << (base ? ",base" : "") << "\n";
+  csv.stream() << "# " << t.source
+               << "; percent by mass passing, by sieve size and by equivalent diameter\n"
+               << "size,target,sample,sample_equivalent_diameter" << (base ? ",base" : "") << "\n";
   max_grading_error_ = 0;
   for (std::size_t k = 0; k < t.size.size(); ++k) {
-    csv.stream() << t.size[k] << "," << t.passing[k] << "," << now[k];
+    csv.stream() << t.size[k] << "," << t.passing[k] << "," << now[k] << "," << now_eq[k];
     if (base) csv.stream() << "," << before[k];
     csv.stream() << "\n";
     max_grading_error_ = std::max(max_grading_error_, std::abs(now[k] - t.passing[k]));
+    max_grading_error_equivalent_ =
+        std::max(max_grading_error_equivalent_, std::abs(now_eq[k] - t.passing[k]));
   }
   csv.commit();
 }
@@ -169,9 +169,10 @@ void SampleRun::write_history() {
 
 void SampleRun::write_summary(const dem::Sample& sample, const dem::Simulation& sim) {
   const dem::Particles& p = sample.particles;
-  const dem::TrackSection& section = prm_.build.section;
-  const double largest = largest_stone(prm_.build.grading);
-  const double spacing = 0.1 * prm_.build.grading.size.front();
+  const dem::TrackSection section = dem::section_of(sample);
+  const dem::SieveTable grading = dem::grading_of(sample);
+  const double largest = dem::largest_stone_size(grading);
+  const double spacing = 0.1 * grading.size.front();
   dem::Vec3 lo, hi;
   dem::porosity_box(section, largest, lo, hi);
   const double core = dem::porosity_in_box(p, lo, hi, spacing).porosity;
@@ -207,9 +208,14 @@ void SampleRun::write_summary(const dem::Sample& sample, const dem::Simulation& 
       {"contacts", "contacts", "", number(sim.num_contacts())},
       {"porosity_under_sleeper", "porosity under the sleeper", "", number(core)},
       {"porosity_profile", "porosity of the whole profile", "", number(profile)},
-      {"target_porosity", "target porosity", "", number(prm_.build.target_porosity)},
+      {"target_porosity", "target porosity", "",
+       sample.info_value("build/target porosity").empty()
+           ? "null"
+           : sample.info_value("build/target porosity")},
       {"max_grading_error_percent", "largest sieve error of the grading", "% of mass",
        number(max_grading_error_)},
+      {"max_grading_error_equivalent_percent", "the same by equivalent diameter", "% of mass",
+       number(max_grading_error_equivalent_)},
       {"mass_kg", "ballast mass", "kg", number([&] {
          double m = 0;
          for (double x : p.mass) m += x;
@@ -269,12 +275,7 @@ void SampleRun::write_summary(const dem::Sample& sample, const dem::Simulation& 
 }
 
 void SampleRun::make_plots() {
-  const fs::path script = fs::path(TRACKBED_SOURCE_DIR) / "cases" / "plot_sample.py";
-  const std::string python = fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
-  const std::string cmd =
-      python + " '" + script.string() + "' '" + out_ + "' > '" + out_ + "/plot.log' 2>&1";
-  if (std::system(cmd.c_str()) != 0)
-    std::cout << "trackbed: warning: the plots failed (see " << out_ << "/plot.log)" << std::endl;
+  run_plot_script("plot_sample.py", out_);
 }
 
 }  // namespace trackbed::cases

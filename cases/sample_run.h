@@ -42,7 +42,7 @@ class SampleRun {
   std::vector<dem::StageReport> stages_;
   // Items of the summary that only the build or the conversion knows.
   std::vector<std::pair<std::string, std::string>> notes_;
-  double max_grading_error_ = 0;
+  double max_grading_error_ = 0, max_grading_error_equivalent_ = 0;
   std::chrono::steady_clock::time_point start_;
 };
 

@@ -86,6 +86,22 @@ void check_settings(const BallastStoneSettings& s) {
 
 }  // namespace
 
+double box_sieve_size(double a, double b, double c) {
+  double e[3] = {a, b, c};
+  std::sort(e, e + 3);  // shortest, intermediate, longest
+  return std::min(e[1], (e[1] + e[0]) / std::sqrt(2.0));
+}
+
+double clump_sieve_size(const ClumpTemplate& clump) {
+  Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+  for (const SphereShape& s : clump.spheres) {
+    lo = lo.cwiseMin(s.centre - Vec3::Constant(s.radius));
+    hi = hi.cwiseMax(s.centre + Vec3::Constant(s.radius));
+  }
+  const Vec3 extent = hi - lo;
+  return box_sieve_size(extent.x(), extent.y(), extent.z());
+}
+
 ShapeIndices shape_indices(const TriangleMesh& closed_surface) {
   const TriangleMesh& mesh = closed_surface;
   const MassProperties mp = surface_mass_properties(mesh);
@@ -107,7 +123,7 @@ ShapeIndices shape_indices(const TriangleMesh& closed_surface) {
   s.shortest = extent[0];
   s.elongation = s.intermediate / s.longest;
   s.flatness = s.shortest / s.intermediate;
-  s.sieve_size = std::min(s.intermediate, (s.intermediate + s.shortest) / std::sqrt(2.0));
+  s.sieve_size = box_sieve_size(s.longest, s.intermediate, s.shortest);
 
   double area = 0.0;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {

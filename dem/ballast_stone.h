@@ -4,6 +4,7 @@
 
 #include <cstdint>
 
+#include "dem/clump_template.h"
 #include "dem/triangle_mesh.h"
 
 namespace trackbed::dem {
@@ -34,6 +35,13 @@ constexpr double kFlatEdgeAngleDegrees = 1.0;
 // Shape indices of a closed, outward-oriented surface. Throws InputError for an open or inward
 // surface (closed_mesh_mass_properties).
 ShapeIndices shape_indices(const TriangleMesh& closed_surface);
+
+// The sieve size of an L x I x S box passing along L: min(I, (I + S) / sqrt 2) (the rule of
+// ShapeIndices::sieve_size; any order of the three extents).
+double box_sieve_size(double a, double b, double c);
+// The sieve size of a clump's pebbles: box_sieve_size of their extents along the template's
+// principal axes.
+double clump_sieve_size(const ClumpTemplate& clump);
 
 struct BallastStoneSettings {
   // The sieve size of each stone is drawn uniformly from [min, max] (metres): by default the

@@ -245,16 +245,7 @@ MassProperties surface_mass_properties(const TriangleMesh& closed_surface) {
   mp.inertia = 0.5 * (m.inertia + m.inertia.transpose());
   // The convention of sphere_union_mass_properties (docs/clumps.md, "Principal frame"), so that
   // both mass sources give the same frame for the same shape.
-  const Eigen::SelfAdjointEigenSolver<Mat3> solver(mp.inertia);
-  mp.principal_moments = solver.eigenvalues();
-  Mat3 axes = solver.eigenvectors();
-  for (int k = 0; k < 2; ++k) {
-    Eigen::Index largest = 0;
-    axes.col(k).cwiseAbs().maxCoeff(&largest);
-    if (axes(largest, k) < 0.0) axes.col(k) = -axes.col(k);
-  }
-  axes.col(2) = axes.col(0).cross(axes.col(1)).normalized();
-  mp.principal_axes = axes;
+  set_principal_frame(mp);
   return mp;
 }
 

@@ -5,7 +5,10 @@
 #include <random>
 #include <sstream>
 
+#include "dem/ballast_stone.h"
+#include "dem/clump_fitting.h"
 #include "dem/input_error.h"
+#include "dem/mass_properties.h"
 #include "dem/random_packing.h"
 
 namespace trackbed::dem {
@@ -13,17 +16,13 @@ namespace trackbed::dem {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-double info_number(const Sample& s, const std::string& key) {
-  const std::string v = s.info_value(key);
-  if (v.empty())
-    throw InputError("sample: info line '" + key +
-                     "' is missing; valid: a sample written by 'trackbed build-sample'");
-  return std::stod(v);
-}
+// A clump squeezed below this start scale by its neighbours starts at it anyway: the few such
+// overlaps are pushed apart by the contacts as the growth begins.
+constexpr double kMinimumStartScale = 0.3;
 
 SimulationSettings settings_for(const ConversionSettings& c) {
   SimulationSettings s;
+  s.time_step = 0;  // the critical fraction of the converted model's own estimate
   s.critical_fraction = c.critical_fraction;
   s.skin = c.skin;
   s.track_energy = false;
@@ -31,34 +30,6 @@ SimulationSettings settings_for(const ConversionSettings& c) {
 }
 
 }  // namespace
-
-TrackSection section_of(const Sample& sample) {
-  TrackSection s;
-  s.sleeper_length = info_number(sample, "section/sleeper length");
-  s.sleeper_width = info_number(sample, "section/sleeper width");
-  s.sleeper_height = info_number(sample, "section/sleeper height");
-  s.sleeper_mass = info_number(sample, "section/sleeper mass");
-  s.depth_under_sleeper = info_number(sample, "section/depth under sleeper");
-  s.shoulder_width = info_number(sample, "section/shoulder width");
-  s.slope = info_number(sample, "section/slope");
-  s.length = info_number(sample, "section/length");
-  s.periodic = sample.info_value("section/boundary") == "periodic";
-  return s;
-}
-
-SectionMaterials materials_of(const Sample& sample) {
-  SectionMaterials m;
-  for (Material* mat : {&m.ballast, &m.sleeper, &m.wall}) {
-    const std::string k = "material/" + mat->name + "/";
-    mat->density = info_number(sample, k + "density");
-    mat->normal_stiffness = info_number(sample, k + "normal stiffness");
-    mat->shear_stiffness = info_number(sample, k + "shear stiffness");
-    mat->friction = info_number(sample, k + "friction");
-    mat->rolling_friction = info_number(sample, k + "rolling friction");
-    mat->local_damping = info_number(sample, k + "local damping");
-  }
-  return m;
-}
 
 ClumpConversion::ClumpConversion(const Sample& base, ZonePtr zone,
                                  std::vector<LibraryTemplate> templates,
@@ -75,6 +46,10 @@ ClumpConversion::ClumpConversion(const Sample& base, ZonePtr zone,
   check_range("conversion: equilibrium ratio", settings_.equilibrium_ratio, 1e-8, 0.5);
   if (templates_.empty())
     throw InputError("conversion: no clump templates; valid: a library setting with templates");
+  for (const LibraryTemplate& t : templates_) {
+    pebble_volume_.push_back(sphere_union_mass_properties(t.clump.spheres).volume);
+    pebble_sieve_size_.push_back(clump_sieve_size(t.clump));
+  }
   if (base_.meshes.size() != 1 || base_.meshes[0].name != SectionModel::kSleeperName)
     throw InputError(
         "conversion: the base sample has no sleeper mesh; valid: a sample written "
@@ -101,6 +76,11 @@ void ClumpConversion::replace() {
   const Particles& p = base_.particles;
   std::mt19937_64 rng(settings_.seed);
   std::uniform_int_distribution<int> pick(0, static_cast<int>(templates_.size()) - 1);
+  // The sleeper's box as it sits in the base sample.
+  const TriangleMesh& sleeper = base_.meshes.front().world;
+  Vec3 box_lo = sleeper.vertices.front(), box_hi = box_lo;
+  for (const Vec3& v : sleeper.vertices) box_lo = box_lo.cwiseMin(v), box_hi = box_hi.cwiseMax(v);
+  ClumpFitter fitter(p, model_.section(), box_lo, box_hi);
   particles_ = Particles();
   double scale_sum = 0;
   for (int b = 0; b < p.num_bodies(); ++b) {
@@ -116,23 +96,42 @@ void ClumpConversion::replace() {
                                         p.is_clump[b], id, elements);
       continue;
     }
-    // Same volume and mass as the ball: the template scaled by s with V_t s^3 = V_ball.
+    // Same solid volume and mass as the ball: the template scaled by s so that its pebbles fill
+    // the ball's volume, V_pebbles s^3 = V_ball; the inertia has the template's radii of
+    // gyration (from the chosen mass source), scaled by s, for the ball's mass.
     const int t = pick(rng);
     const LibraryTemplate& lib = templates_[t];
     const double r = p.radius[p.first_element[b]];
-    const double s = std::cbrt(4.0 / 3.0 * kPi * r * r * r / lib.clump.volume);
-    const double density = p.mass[b] / (lib.clump.volume * s * s * s);
+    const double s = std::cbrt(4.0 / 3.0 * kPi * r * r * r / pebble_volume_[t]);
     std::vector<SphereShape> elements;
     for (const SphereShape& sp : lib.clump.spheres)
       elements.push_back({s * sp.centre, s * sp.radius});
-    particles_.add_body_with_elements(p.x[b], random_rotation(rng), p.mass[b],
-                                      density * std::pow(s, 5) * lib.clump.principal_moments,
-                                      p.body_material[b], true, id, elements);
-    // The clump starts shrunk to fit inside the ball it replaces.
-    const double start = std::min(1.0, r / (s * lib.clump.bounding_radius));
+    // The orientation that lets the clump start largest among its neighbours as they stand.
+    fitter.remove_body(b);
+    Quat best_q = Quat::Identity();
+    double start = -1;
+    std::vector<SphereShape> rotated(elements.size());
+    for (int trial = 0; trial < settings_.orientation_trials; ++trial) {
+      const Quat q = random_rotation(rng);
+      const Mat3 R = q.toRotationMatrix();
+      for (std::size_t k = 0; k < elements.size(); ++k)
+        rotated[k] = {R * elements[k].centre, elements[k].radius};
+      const double g = fitter.fit(p.x[b], rotated);
+      if (g > start) start = g, best_q = q;
+    }
+    start = std::max(start, kMinimumStartScale);
+    const Mat3 R = best_q.toRotationMatrix();
+    std::vector<SphereShape> placed;
+    for (const SphereShape& e : elements)
+      placed.push_back({p.x[b] + start * (R * e.centre), start * e.radius});
+    fitter.add(placed);
+    particles_.add_body_with_elements(
+        p.x[b], best_q, p.mass[b],
+        p.mass[b] * s * s / lib.clump.volume * lib.clump.principal_moments, p.body_material[b],
+        true, id, elements);
     start_scale_of_id_[id] = start;
     shape_of_id_[id] = t;
-    sieve_size_of_id_[id] = s * lib.sieve_size;
+    sieve_size_of_id_[id] = s * pebble_sieve_size_[t];
     report_.start_scale_min = std::min(report_.start_scale_min, start);
     scale_sum += start;
     ++report_.converted;
@@ -154,31 +153,36 @@ void ClumpConversion::set_growth(double fraction) {
 void ClumpConversion::grow() {
   const StageMaterials growing{
       settings_.growth_friction_factor, settings_.growth_friction_factor, {}};
+  // The step must suit the grown clumps: the critical step of the full-size model, whose
+  // overlaps a probe model tolerates (it is never stepped).
+  SimulationSettings probe_settings = settings_for(settings_);
+  probe_settings.initial_overlap_ratio = 1e9;
+  SectionModel probe_model(model_.section(), model_.materials(), probe_settings);
+  Simulation probe = probe_model.make(particles_, {false, true}, growing, base_.meshes.front());
+  probe.setup();
+  const double dt = settings_.critical_fraction * probe.critical_timestep();
+
   sim_ = std::make_unique<Simulation>(
       model_.make(particles_, {false, true}, growing, base_.meshes.front()));
   // The clumps enter at their start size, so setup sees no overlap the balls did not have.
   Particles& p = sim_->particles();
-  std::map<std::int64_t, int> body_of_id;
-  for (int b = 0; b < p.num_bodies(); ++b) {
-    const auto it = start_scale_of_id_.find(p.id[b]);
-    if (it == start_scale_of_id_.end()) continue;
-    Growing g{p.first_element[b], {}, it->second};
-    for (int e = p.first_element[b]; e < p.first_element[b + 1]; ++e)
-      g.full.push_back({p.offset[e], p.radius[e]});
-    growing_.push_back(std::move(g));
-  }
+  auto collect = [&](bool divide_by_start) {
+    growing_.clear();
+    for (int b = 0; b < p.num_bodies(); ++b) {
+      const auto it = start_scale_of_id_.find(p.id[b]);
+      if (it == start_scale_of_id_.end()) continue;
+      Growing g{p.first_element[b], {}, it->second};
+      const double f = divide_by_start ? 1 / it->second : 1;
+      for (int e = p.first_element[b]; e < p.first_element[b + 1]; ++e)
+        g.full.push_back({f * p.offset[e], f * p.radius[e]});
+      growing_.push_back(std::move(g));
+    }
+  };
+  collect(false);
   set_growth(0);
   sim_->setup();
-  // Bodies were sorted at setup: find the growing clumps again by id.
-  growing_.clear();
-  for (int b = 0; b < p.num_bodies(); ++b) {
-    const auto it = start_scale_of_id_.find(p.id[b]);
-    if (it == start_scale_of_id_.end()) continue;
-    Growing g{p.first_element[b], {}, it->second};
-    for (int e = p.first_element[b]; e < p.first_element[b + 1]; ++e)
-      g.full.push_back({p.offset[e] / it->second, p.radius[e] / it->second});
-    growing_.push_back(std::move(g));
-  }
+  sim_->set_time_step(std::min(sim_->time_step(), dt));
+  collect(true);  // bodies were sorted at setup: find the growing clumps again
   // Springs of the contacts between bodies that stay balls carry over, with the walls' and the
   // sleeper's (same wall numbering: the base sample's model had the same walls).
   ContactState carried;

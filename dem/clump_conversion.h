@@ -1,15 +1,18 @@
 // Converting the balls of a sample inside a zone to clumps (the multi-layer shape model): each
-// ball becomes a clump of a library template, of the same volume and mass, at the ball's centre,
-// in a uniformly random orientation; the overlaps the angular shapes make with their neighbours
-// are relaxed by growing the clumps (docs/samples.md, "Converting balls to clumps"):
+// ball becomes a clump of a library template whose pebbles have the ball's volume, with the
+// ball's mass, at the ball's centre, in a uniformly random orientation; the overlaps the angular
+// shapes make with their neighbours are relaxed by growing the clumps (docs/samples.md,
+// "Converting balls to clumps"):
 //
-//   run():  replace()   balls in the zone -> clumps shrunk to fit inside their ball's sphere
-//           grow()      grow every clump to full size over growth_time, with the friction
-//                       lowered (growth_friction_factor), the sleeper held by its weight
+//   run():  replace()   balls in the zone -> clumps in the orientation that fits largest among
+//                       their neighbours, shrunk to that fit (clump_fitting.h)
+//           grow()      grow every clump to full size over growth_time under gravity, the
+//                       friction scaled by growth_friction_factor, the sleeper held by its servo
 //           settle()    friction restored, the model run to equilibrium, the sleeper seated
 //
-// A ball of sieve size a becomes a clump whose sieve size is the template's, scaled: the volume
-// (and mass) is kept exactly, the sieve size changes by the template's shape (grading.md).
+// A ball of sieve size a becomes a clump whose sieve size is that of its pebbles
+// (clump_sieve_size): the volume and mass are kept exactly, the sieve size changes by the
+// template's shape.
 #pragma once
 
 #include <cstdint>
@@ -24,11 +27,14 @@
 namespace trackbed::dem {
 
 struct ConversionSettings {
-  double growth_time = 0.05;            // s simulated over which the clumps grow to full size
-  int growth_interval = 50;             // steps between two growth increments
-  double growth_friction_factor = 0.2;  // ballast friction (and rolling) factor while growing
-  double preparation_damping = 0.3;     // normal dashpot ratio while converting (section_model.h)
-  double equilibrium_ratio = 1e-4;
+  double growth_time = 0.1;           // s simulated over which the clumps grow to full size
+  int growth_interval = 50;           // steps between two growth increments
+  double growth_friction_factor = 1;  // ballast friction (and rolling) factor while growing
+  int orientation_trials = 16;        // random orientations tried per clump (clump_fitting.h)
+  double preparation_damping = 0.3;   // normal dashpot ratio while converting (section_model.h)
+  // A converted bed settles more slowly than a deposited ball bed (its clumps were pushed apart
+  // while growing): 1e-3 takes about half the time of 1e-4 (docs/samples.md, "Equilibrium").
+  double equilibrium_ratio = 1e-3;
   double max_stage_time = 4.0;     // s simulated for the final settling at most
   double critical_fraction = 0.8;  // of the critical step of the converted model
   double skin = 0.004;
@@ -67,6 +73,8 @@ class ClumpConversion {
   const Sample& base_;
   ZonePtr zone_;
   std::vector<LibraryTemplate> templates_;
+  std::vector<double> pebble_volume_;      // per template: volume of its pebbles' union
+  std::vector<double> pebble_sieve_size_;  // per template: sieve size of its pebbles
   ConversionSettings settings_;
   SectionModel model_;
   StageRunner runner_;
@@ -78,10 +86,5 @@ class ClumpConversion {
   std::vector<Growing> growing_;
   std::unique_ptr<Simulation> sim_;
 };
-
-// The section and materials recorded in a sample's info lines (SectionModel::info); throws
-// InputError naming the missing line.
-TrackSection section_of(const Sample& sample);
-SectionMaterials materials_of(const Sample& sample);
 
 }  // namespace trackbed::dem

@@ -109,6 +109,12 @@ void validate_sieve_table(const SieveTable& table) {
   validate(table, location_of(table));
 }
 
+double largest_stone_size(const SieveTable& table) {
+  for (std::size_t k = 0; k < table.size.size(); ++k)
+    if (table.passing[k] >= 100) return table.size[k];
+  return table.size.back();
+}
+
 SieveTable read_sieve_table_csv(const std::string& path) {
   const CsvTable csv(path, "sieve table");
   csv.require("size");

@@ -27,6 +27,9 @@ SieveTable en13450_ballast_grading();
 // non-decreasing; 0 at the smallest sieve and 100 at the largest.
 void validate_sieve_table(const SieveTable& table);
 
+// The largest stone a table allows: the smallest sieve that passes 100 %.
+double largest_stone_size(const SieveTable& table);
+
 // Reads columns `size` (m) and `passing` (%) of a CSV file (dem/csv_table.h rules; '#' comments)
 // and validates the table; errors name the file and line.
 SieveTable read_sieve_table_csv(const std::string& path);

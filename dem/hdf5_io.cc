@@ -1,5 +1,6 @@
 #include "dem/hdf5_io.h"
 
+#include <filesystem>
 #include <stdexcept>
 
 #include "dem/input_error.h"
@@ -11,10 +12,18 @@ Handle::Handle(hid_t id, herr_t (*close)(hid_t), const std::string& what) : id_(
 }
 
 hid_t open_for_reading(const std::string& path, const std::string& what) {
+  if (!std::filesystem::is_regular_file(path))
+    throw InputError(path + ": no such file; valid: " + what);
   H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported by us, in one line
   const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
   if (file < 0) throw InputError(path + ": cannot open as HDF5; valid: " + what);
   return file;
+}
+
+hid_t create_file(const std::string& path) {
+  const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (f < 0) throw std::runtime_error("HDF5: create " + path + " failed (check the folder)");
+  return f;
 }
 
 hid_t create_group(hid_t parent, const char* name) {
@@ -81,6 +90,31 @@ void write_integers(hid_t parent, const char* name, const std::vector<std::int64
 
 bool exists(hid_t parent, const char* name) {
   return H5Lexists(parent, name, H5P_DEFAULT) > 0;
+}
+
+long dataset_size(hid_t parent, const std::string& file, const char* name) {
+  if (!exists(parent, name))
+    throw InputError(file + ": dataset '" + name + "' is missing; valid: a trackbed file");
+  Handle set(H5Dopen2(parent, name, H5P_DEFAULT), H5Dclose, std::string("open ") + name);
+  Handle space(H5Dget_space(set), H5Sclose, "dataspace");
+  return static_cast<long>(H5Sget_simple_extent_npoints(space));
+}
+
+void write_quaternions(hid_t parent, const char* name, const std::vector<Quat>& q) {
+  std::vector<double> flat;
+  for (const auto& r : q) flat.insert(flat.end(), {r.w(), r.x(), r.y(), r.z()});
+  write_doubles(parent, name, flat.data(), q.size(), 4);
+}
+
+std::vector<Quat> read_quaternions(hid_t parent, const std::string& file, const char* name,
+                                   long expected) {
+  const auto d = read_doubles(parent, file, name, expected < 0 ? -1 : 4 * expected);
+  if (d.size() % 4 != 0)
+    throw InputError(file + ": dataset '" + name + "' is not a list of quaternions");
+  std::vector<Quat> out;
+  for (std::size_t i = 0; i < d.size(); i += 4)
+    out.emplace_back(d[i], d[i + 1], d[i + 2], d[i + 3]);
+  return out;
 }
 
 std::vector<double> read_doubles(hid_t parent, const std::string& file, const char* name,

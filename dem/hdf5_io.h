@@ -28,9 +28,11 @@ class Handle {
   herr_t (*close_)(hid_t);
 };
 
-// Opens a file for reading with HDF5's own error printing off; InputError naming `what` if it
-// is not an HDF5 file.
+// Opens a file for reading with HDF5's own error printing off; InputError naming `what` (what
+// would be valid) if it does not exist or is not an HDF5 file.
 hid_t open_for_reading(const std::string& path, const std::string& what);
+// Creates (truncates) a file for writing.
+hid_t create_file(const std::string& path);
 hid_t create_group(hid_t parent, const char* name);
 // InputError if the group is missing.
 hid_t open_group(hid_t parent, const std::string& file, const char* name);
@@ -38,14 +40,20 @@ hid_t open_group(hid_t parent, const std::string& file, const char* name);
 // rows x cols doubles (cols == 1: a 1-D dataset).
 void write_doubles(hid_t parent, const char* name, const double* data, hsize_t rows, hsize_t cols);
 void write_vectors(hid_t parent, const char* name, const std::vector<Vec3>& v);
+// Quaternions as (w, x, y, z) rows.
+void write_quaternions(hid_t parent, const char* name, const std::vector<Quat>& q);
 void write_integers(hid_t parent, const char* name, const std::vector<std::int64_t>& v);
 
 bool exists(hid_t parent, const char* name);
+// The number of values of a dataset (InputError if it is missing).
+long dataset_size(hid_t parent, const std::string& file, const char* name);
 // Exactly `expected` values (all of them if expected < 0).
 std::vector<double> read_doubles(hid_t parent, const std::string& file, const char* name,
                                  long expected = -1);
 std::vector<Vec3> read_vectors(hid_t parent, const std::string& file, const char* name,
                                long expected = -1);
+std::vector<Quat> read_quaternions(hid_t parent, const std::string& file, const char* name,
+                                   long expected = -1);
 std::vector<std::int64_t> read_integers(hid_t parent, const std::string& file, const char* name,
                                         long expected = -1);
 

@@ -37,22 +37,6 @@ struct Moments {
   Mat3 j = Mat3::Zero();  // integral of r r^T
 };
 
-// Fills principal moments (ascending) and a right-handed set of principal axes. The sign of
-// each axis is fixed (largest component positive) so the result does not depend on the eigen
-// solver's arbitrary choice.
-void set_principal_frame(MassProperties& mp) {
-  const Eigen::SelfAdjointEigenSolver<Mat3> solver(mp.inertia);
-  mp.principal_moments = solver.eigenvalues();
-  Mat3 axes = solver.eigenvectors();
-  for (int k = 0; k < 2; ++k) {
-    Eigen::Index largest = 0;
-    axes.col(k).cwiseAbs().maxCoeff(&largest);
-    if (axes(largest, k) < 0.0) axes.col(k) = -axes.col(k);
-  }
-  axes.col(2) = axes.col(0).cross(axes.col(1)).normalized();
-  mp.principal_axes = axes;
-}
-
 // Mass properties from moments about `origin`, with the inertia moved to the centroid.
 MassProperties from_moments(const Moments& m, const Vec3& origin) {
   MassProperties mp;
@@ -283,6 +267,19 @@ void validate(const std::vector<SphereShape>& spheres, double relative_tolerance
 }
 
 }  // namespace
+
+void set_principal_frame(MassProperties& mp) {
+  const Eigen::SelfAdjointEigenSolver<Mat3> solver(mp.inertia);
+  mp.principal_moments = solver.eigenvalues();
+  Mat3 axes = solver.eigenvectors();
+  for (int k = 0; k < 2; ++k) {
+    Eigen::Index largest = 0;
+    axes.col(k).cwiseAbs().maxCoeff(&largest);
+    if (axes(largest, k) < 0.0) axes.col(k) = -axes.col(k);
+  }
+  axes.col(2) = axes.col(0).cross(axes.col(1)).normalized();
+  mp.principal_axes = axes;
+}
 
 MassProperties sphere_union_mass_properties(const std::vector<SphereShape>& spheres,
                                             double relative_tolerance) {

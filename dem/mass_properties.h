@@ -28,6 +28,12 @@ struct MassProperties {
   Mat3 principal_axes;
 };
 
+// Fills principal_moments (ascending) and principal_axes (right-handed; each of the first two
+// axes with its largest component positive, so the result does not depend on the eigen
+// solver's arbitrary signs) from mp.inertia. Every mass source uses it, so that the same shape
+// gets the same frame.
+void set_principal_frame(MassProperties& mp);
+
 // Volume, centroid and inertia of the union of `spheres`, converged to `relative_tolerance` in
 // volume and in the trace of the inertia (docs/clumps.md). One sphere, and spheres that do not
 // overlap once those inside another sphere are dropped, are integrated exactly. Throws InputError

@@ -1,8 +1,10 @@
 // Porosity of a packing in a box, measured on the sphere elements: the box is sampled on a
 // regular grid of points (cell centres) and every element marks the points inside it, so
-// overlapping pebbles of a clump count once. The error is that of the midpoint rule for the
-// indicator function: about (spacing / diameter)^2 relative, far below 1 % for a spacing of a
-// tenth of the smallest diameter (docs/samples.md, "Porosity").
+// overlapping pebbles of a clump count once. For one sphere with 20 points per diameter the count
+// misses its volume by up to about 1 %; over a packing the spheres sit at random offsets to the
+// grid and the errors average out, to well below 0.3 % of the solid volume for a few hundred
+// stones at a spacing of a tenth of the smallest (tests/dem/test_porosity.cc; docs/samples.md,
+// "Porosity").
 #pragma once
 
 #include <functional>

@@ -7,6 +7,7 @@
 #include "dem/deposition.h"
 #include "dem/input_error.h"
 #include "dem/porosity.h"
+#include "dem/zone.h"
 
 namespace trackbed::dem {
 
@@ -33,7 +34,7 @@ CalibrationResult calibrate_deposition_friction(const SieveTable& grading,
   std::sort(factors.begin(), factors.end());
   if (factors.size() < 2 || factors.front() < 0 || factors.back() > 1)
     throw InputError("build: calibration friction factors: give at least two in [0, 1]");
-  const double largest = grading.size.back();
+  const double largest = largest_stone_size(grading);
   const double side = settings.plan_size, h = settings.bed_height;
   // The stones to fill the box to the bed height at the target porosity.
   std::mt19937_64 rng(settings.seed);
@@ -48,7 +49,7 @@ CalibrationResult calibrate_deposition_friction(const SieveTable& grading,
     s.critical_fraction = settings.critical_fraction;
     s.skin = settings.skin;
     s.track_energy = false;
-    Simulation sim(model.material_table({f, 1, settings.deposition_damping}),
+    Simulation sim(model.material_table({f, f, settings.deposition_damping}),
                    ball_cloud(sizes, Vec3::Zero(), Vec3(side, side, 0), 0.3, 0,
                               materials.ballast.density, settings.seed + 1),
                    s);
@@ -58,16 +59,20 @@ CalibrationResult calibrate_deposition_friction(const SieveTable& grading,
       sim.add_plane(wall(side * Vec3::Unit(k), -Vec3::Unit(k), 2));
     }
     std::vector<StageReport> reports;
-    DepositionStages stages{model.material_table({f, 1, settings.deposition_damping}),
-                            model.material_table({f, 1, {}}), settings.stage_ratio,
+    DepositionStages stages{model.material_table({f, f, settings.deposition_damping}),
+                            model.material_table({f, f, {}}), settings.stage_ratio,
                             settings.max_stage_time};
     deposit(sim, stages, runner, reports);
+    StageReport both = reports.back();
+    both.name = "calibration (friction x " + exact_number_text(f) + ")";
+    both.steps = reports[0].steps + reports[1].steps;
+    both.simulated_time = reports[0].simulated_time + reports[1].simulated_time;
+    both.wall_time = reports[0].wall_time + reports[1].wall_time;
     // Away from the walls by one largest stone, below the bed's top by one.
     const Vec3 lo(largest, largest, largest), hi(side - largest, side - largest, h - largest);
     const double porosity =
         porosity_in_box(sim.particles(), lo, hi, 0.1 * grading.size.front()).porosity;
-    reports.back().name = "calibration (friction x " + std::to_string(f) + ")";
-    out.points.push_back({f, porosity, reports.back()});
+    out.points.push_back({f, porosity, both});
   }
   // Porosity grows with friction; interpolate between the bracketing points.
   const auto& p = out.points;

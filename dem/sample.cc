@@ -12,19 +12,6 @@ namespace {
 
 constexpr const char* kFormat = "trackbed sample 1";
 
-std::vector<double> quaternions(const std::vector<Quat>& q) {
-  std::vector<double> out;
-  for (const auto& r : q) out.insert(out.end(), {r.w(), r.x(), r.y(), r.z()});
-  return out;
-}
-
-std::vector<Quat> to_quaternions(const std::vector<double>& d) {
-  std::vector<Quat> out;
-  for (std::size_t i = 0; i + 3 < d.size(); i += 4)
-    out.emplace_back(d[i], d[i + 1], d[i + 2], d[i + 3]);
-  return out;
-}
-
 template <class T>
 std::vector<std::int64_t> to_int64(const std::vector<T>& v) {
   return std::vector<std::int64_t>(v.begin(), v.end());
@@ -36,8 +23,7 @@ void write_bodies(hid_t file, const Sample& s) {
   hdf5::write_vectors(g, "position", p.x);
   hdf5::write_vectors(g, "velocity", p.v);
   hdf5::write_vectors(g, "angular_velocity", p.w);
-  const auto q = quaternions(p.q);
-  hdf5::write_doubles(g, "orientation_wxyz", q.data(), p.q.size(), 4);
+  hdf5::write_quaternions(g, "orientation_wxyz", p.q);
   hdf5::write_doubles(g, "mass", p.mass.data(), p.mass.size(), 1);
   hdf5::write_vectors(g, "principal_inertia", p.inertia);
   hdf5::write_integers(g, "id", to_int64(p.id));
@@ -117,7 +103,7 @@ Particles read_particles(hid_t file, const std::string& path, Sample& s) {
   const long nb = static_cast<long>(x.size());
   const auto v = hdf5::read_vectors(g, path, "velocity", nb);
   const auto w = hdf5::read_vectors(g, path, "angular_velocity", nb);
-  const auto q = to_quaternions(hdf5::read_doubles(g, path, "orientation_wxyz", 4 * nb));
+  const auto q = hdf5::read_quaternions(g, path, "orientation_wxyz", nb);
   const auto mass = hdf5::read_doubles(g, path, "mass", nb);
   const auto inertia = hdf5::read_vectors(g, path, "principal_inertia", nb);
   const auto id = hdf5::read_integers(g, path, "id", nb);
@@ -237,8 +223,7 @@ std::string Sample::info_value(const std::string& key) const {
 void write_sample(const std::string& path, const Sample& sample) {
   const std::string tmp = path + ".part";
   try {
-    hdf5::Handle file(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose,
-                      "create " + tmp);
+    hdf5::Handle file(hdf5::create_file(tmp), H5Fclose, "create " + tmp);
     hdf5::write_string_attribute(file, "format", kFormat);
     hdf5::write_strings(file, "materials", sample.materials);
     std::vector<std::string> info;

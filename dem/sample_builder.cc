@@ -53,12 +53,12 @@ SampleBuilder::SampleBuilder(SampleBuildSettings settings)
   if (s.deposition_friction >= 0)
     check_range("build: deposition friction factor", s.deposition_friction, 0, 1);
   Vec3 lo, hi;
-  porosity_box(s.section, s.grading.size.back(), lo, hi);
+  porosity_box(s.section, largest_stone_size(s.grading), lo, hi);
   if (!((hi - lo).minCoeff() > 0))
     throw InputError(
         "section: the porosity box under the sleeper is empty (the depth under the sleeper and "
         "the section length must exceed the largest stone, " +
-        number(s.grading.size.back()) +
+        number(largest_stone_size(s.grading)) +
         " m, and twice it); valid: a larger section or smaller stones");
 }
 
@@ -73,7 +73,7 @@ SimulationSettings SampleBuilder::stage_settings() const {
 
 double SampleBuilder::core_porosity(const Particles& p) const {
   Vec3 lo, hi;
-  porosity_box(settings_.section, settings_.grading.size.back(), lo, hi);
+  porosity_box(settings_.section, largest_stone_size(settings_.grading), lo, hi);
   // A tenth of the smallest stone: the midpoint rule's error is then far below 1 % (porosity.h).
   return porosity_in_box(p, lo, hi, 0.1 * settings_.grading.size.front()).porosity;
 }
@@ -110,7 +110,7 @@ Sample SampleBuilder::run() {
   std::map<std::int64_t, double> size_of_id;
   for (std::size_t id = 0; id < sieve_size_.size(); ++id) size_of_id[id] = sieve_size_[id];
   Sample sample = model_.to_sample(*sim_, {}, size_of_id, {});
-  sample.info.push_back({"grading", settings_.grading.source});
+  for (const auto& line : grading_info(settings_.grading)) sample.info.push_back(line);
   sample.info.push_back({"build/seed", std::to_string(settings_.seed)});
   sample.info.push_back({"build/target porosity", number(settings_.target_porosity)});
   sample.info.push_back(
@@ -138,7 +138,7 @@ void SampleBuilder::calibrate() {
   }
   CalibrationSettings c = settings_.calibration;
   c.bed_height = settings_.section.crest_z();
-  c.plan_size = std::max(c.plan_size, 8 * settings_.grading.size.back());
+  c.plan_size = std::max(c.plan_size, 8 * largest_stone_size(settings_.grading));
   c.stage_ratio = settings_.stage_ratio;
   c.max_stage_time = settings_.max_stage_time;
   c.deposition_damping = settings_.deposition_damping;
@@ -160,10 +160,10 @@ void SampleBuilder::deposit() {
       ball_cloud(sieve_size_, Vec3(-s.half_base_width(), -0.5 * s.length, 0),
                  Vec3(s.half_base_width(), 0.5 * s.length, 0), settings_.cloud_solid_fraction, 0,
                  settings_.materials.ballast.density, settings_.seed + 1);
-  const StageMaterials fall{f, 1, settings_.deposition_damping};
+  const StageMaterials fall{f, f, settings_.deposition_damping};
   next_stage(cloud, {true, false}, fall);
   dem::deposit(*sim_,
-               {model_.material_table(fall), model_.material_table({f, 1, {}}),
+               {model_.material_table(fall), model_.material_table({f, f, {}}),
                 settings_.stage_ratio, settings_.max_stage_time},
                runner_, report_.stages);
   report_.porosity = core_porosity(sim_->particles());
@@ -184,8 +184,17 @@ void SampleBuilder::seat_sleeper() {
   next_stage(particles_, {false, true}, {});
   SettleCriterion c;
   c.max_time = settings_.max_stage_time;
-  c.ratio = settings_.equilibrium_ratio;
   c.also = [this](const Simulation& sim) { return model_.sleeper_seated(sim); };
+  double& load = sim_->meshes().front().dof[2].value;
+  const double weight = load;
+  if (settings_.tamping_load_factor > 1) {
+    // Pressed into the bed, as tamping and traffic seat a real sleeper, then released.
+    load = settings_.tamping_load_factor * weight;
+    c.ratio = settings_.stage_ratio;
+    report_.stages.push_back(runner_.settle(*sim_, "sleeper tamping", c));
+    load = weight;
+  }
+  c.ratio = settings_.equilibrium_ratio;
   report_.stages.push_back(runner_.settle(*sim_, "sleeper seating", c));
 }
 

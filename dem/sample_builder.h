@@ -8,8 +8,8 @@
 //                              foot of the slopes; then the friction is restored
 //           trim()             keep the stones inside the design profile (cut the slopes, level
 //                              the crest) and clear the sleeper's box; remove the mould
-//           seat_sleeper()     place the sleeper and let it settle under its weight (servo) to
-//                              equilibrium
+//           seat_sleeper()     place the sleeper on the bed, press it in with a tamping load
+//                              and let it settle under its weight (servo) to equilibrium
 //
 // Every stage ends on the mean unbalanced force ratio (settling.h).
 #pragma once
@@ -41,6 +41,9 @@ struct SampleBuildSettings {
   // Ballast friction factor during deposition; < 0: calibrated for the target porosity.
   double deposition_friction = -1;
   CalibrationSettings calibration;  // factors tried; box and bed size are set from the section
+  // The sleeper is pressed into the bed with this many times its weight before it is seated
+  // under its weight (1: no tamping).
+  double tamping_load_factor = 1;
   double stage_ratio = 1e-3;        // equilibrium of the intermediate stages
   double equilibrium_ratio = 1e-4;  // equilibrium of the finished sample
   double max_stage_time = 4.0;      // s simulated per stage at most

@@ -6,6 +6,7 @@
 
 #include "dem/input_error.h"
 #include "dem/triangle_mesh.h"
+#include "dem/zone.h"
 
 namespace trackbed::dem {
 
@@ -81,7 +82,9 @@ Simulation SectionModel::make(Particles particles, const StageWalls& walls,
     if (sleeper_body) {
       body = *sleeper_body;
     } else {
-      const TriangleMesh box = make_box_mesh(s.sleeper_lower(), s.sleeper_upper(), true);
+      const Vec3 lift(0, 0, sleeper_lift(sim.particles(), s));
+      const TriangleMesh box =
+          make_box_mesh(s.sleeper_lower() + lift, s.sleeper_upper() + lift, true);
       body = MeshBody::from_world_mesh(kSleeperName, box, 1, 1.0, Vec3::Zero());
       // The box's own inertia distribution, scaled to the sleeper's mass.
       body.inertia *= s.sleeper_mass / body.mass;
@@ -93,7 +96,12 @@ Simulation SectionModel::make(Particles particles, const StageWalls& walls,
     DofControl& z = body.dof[2];
     z.mode = DofMode::servo;
     z.value = body.mass * settings_.gravity.z();  // the weight, downward
-    z.max_speed = 0.05;
+    // A slow servo: its automatic gain assumes the contacts respond within a step, but the
+    // stones under a sleeper respond over several, and a relaxation of 0.5 locks the servo into a
+    // two-step oscillation at its speed limit that keeps the bed shaking. With 0.01 the force
+    // error decays over about a hundred steps, smoothly.
+    z.relaxation = 0.01;
+    z.max_speed = 0.02;
     sim.add_mesh_body(std::move(body));
   }
   return sim;
@@ -102,8 +110,8 @@ Simulation SectionModel::make(Particles particles, const StageWalls& walls,
 bool SectionModel::sleeper_seated(const Simulation& sim) const {
   for (const MeshBody& m : sim.meshes()) {
     if (m.name != kSleeperName) continue;
-    const double weight = std::abs(m.mass * settings_.gravity.z());
-    return std::abs(m.contact_force.z() - weight) <= 0.01 * weight && m.v.norm() < 1e-4;
+    const double load = -m.dof[2].value;  // what the servo holds: the weight, or a tamping load
+    return std::abs(m.contact_force.z() - load) <= 0.01 * std::abs(load) && m.v.norm() < 1e-4;
   }
   return true;
 }
@@ -158,10 +166,99 @@ std::vector<std::pair<std::string, std::string>> SectionModel::info() const {
     out.push_back({k + "shear stiffness", num(m->shear_stiffness)});
     out.push_back({k + "friction", num(m->friction)});
     out.push_back({k + "rolling friction", num(m->rolling_friction)});
+    out.push_back({k + "normal damping ratio", num(m->normal_damping_ratio)});
+    out.push_back({k + "shear damping ratio", num(m->shear_damping_ratio)});
+    out.push_back({k + "normal damping rate", num(m->normal_damping_rate)});
     out.push_back({k + "local damping", num(m->local_damping)});
   }
   return out;
 }
+
+namespace {
+
+double info_number(const Sample& s, const std::string& key) {
+  const std::string v = s.info_value(key);
+  if (v.empty())
+    throw InputError("sample: info line '" + key +
+                     "' is missing; valid: a sample written by 'trackbed build-sample'");
+  return std::stod(v);
+}
+
+std::string number_list(const std::vector<double>& v) {
+  std::string out;
+  for (double x : v) out += (out.empty() ? "" : ", ") + exact_number_text(x);
+  return out;
+}
+
+std::vector<double> info_numbers(const Sample& s, const std::string& key) {
+  std::vector<double> out;
+  std::string text = s.info_value(key) + ",";
+  for (std::size_t start = 0, comma; (comma = text.find(',', start)) != std::string::npos;
+       start = comma + 1)
+    if (comma > start) out.push_back(std::stod(text.substr(start, comma - start)));
+  return out;
+}
+
+}  // namespace
+
+TrackSection section_of(const Sample& sample) {
+  TrackSection s;
+  s.sleeper_length = info_number(sample, "section/sleeper length");
+  s.sleeper_width = info_number(sample, "section/sleeper width");
+  s.sleeper_height = info_number(sample, "section/sleeper height");
+  s.sleeper_mass = info_number(sample, "section/sleeper mass");
+  s.depth_under_sleeper = info_number(sample, "section/depth under sleeper");
+  s.shoulder_width = info_number(sample, "section/shoulder width");
+  s.slope = info_number(sample, "section/slope");
+  s.length = info_number(sample, "section/length");
+  s.periodic = sample.info_value("section/boundary") == "periodic";
+  return s;
+}
+
+SectionMaterials materials_of(const Sample& sample) {
+  SectionMaterials m;
+  for (Material* mat : {&m.ballast, &m.sleeper, &m.wall}) {
+    const std::string k = "material/" + mat->name + "/";
+    mat->density = info_number(sample, k + "density");
+    mat->normal_stiffness = info_number(sample, k + "normal stiffness");
+    mat->shear_stiffness = info_number(sample, k + "shear stiffness");
+    mat->friction = info_number(sample, k + "friction");
+    mat->rolling_friction = info_number(sample, k + "rolling friction");
+    // Optional: 0 when absent (samples written before the dashpots were recorded).
+    auto optional = [&](const std::string& key) {
+      return sample.info_value(key).empty() ? 0.0 : info_number(sample, key);
+    };
+    mat->normal_damping_ratio = optional(k + "normal damping ratio");
+    mat->shear_damping_ratio = optional(k + "shear damping ratio");
+    mat->normal_damping_rate = optional(k + "normal damping rate");
+    mat->local_damping = info_number(sample, k + "local damping");
+  }
+  return m;
+}
+
+SieveTable grading_of(const Sample& sample) {
+  SieveTable t;
+  t.source = sample.info_value("grading");
+  t.size = info_numbers(sample, "grading/sizes");
+  t.passing = info_numbers(sample, "grading/passing");
+  validate_sieve_table(t);
+  return t;
+}
+
+std::vector<std::pair<std::string, std::string>> grading_info(const SieveTable& grading) {
+  return {{"grading", grading.source},
+          {"grading/sizes", number_list(grading.size)},
+          {"grading/passing", number_list(grading.passing)}};
+}
+
+namespace {
+
+// Distance from a point to the sleeper's box (0 inside).
+double distance_to_box(const Vec3& x, const Vec3& lo, const Vec3& hi) {
+  return (lo - x).cwiseMax(x - hi).cwiseMax(0.0).norm();
+}
+
+}  // namespace
 
 std::vector<char> bodies_in_section(const Particles& p, const TrackSection& section) {
   const Vec3 lo = section.sleeper_lower(), hi = section.sleeper_upper();
@@ -171,15 +268,27 @@ std::vector<char> bodies_in_section(const Particles& p, const TrackSection& sect
     const bool in_prism = c.z() >= 0 && c.z() <= section.crest_z() &&
                           std::abs(c.y()) <= 0.5 * section.length &&
                           std::abs(c.x()) <= section.half_base_width() - section.slope * c.z();
-    bool clear = true;
-    for (int e = p.first_element[b]; e < p.first_element[b + 1] && clear; ++e) {
-      // Distance from the element centre to the sleeper's box.
-      const Vec3 d = (lo - p.pos[e]).cwiseMax(p.pos[e] - hi).cwiseMax(0.0);
-      clear = d.norm() >= p.radius[e];
-    }
+    bool clear = c.z() < lo.z();
+    for (int e = p.first_element[b]; e < p.first_element[b + 1] && !clear; ++e)
+      clear = distance_to_box(p.pos[e], lo, hi) >= p.radius[e];
     keep[b] = in_prism && clear;
   }
   return keep;
+}
+
+double sleeper_lift(const Particles& p, const TrackSection& section) {
+  const Vec3 lo = section.sleeper_lower(), hi = section.sleeper_upper();
+  double lift = 0;
+  for (int e = 0; e < p.num_elements(); ++e) {
+    const double r = p.radius[e];
+    if (distance_to_box(p.pos[e], lo, hi) >= r) continue;
+    // Horizontal distance to the box's footprint: the sphere's top over the footprint.
+    const double dx = std::max({lo.x() - p.pos[e].x(), p.pos[e].x() - hi.x(), 0.0});
+    const double dy = std::max({lo.y() - p.pos[e].y(), p.pos[e].y() - hi.y(), 0.0});
+    const double top = p.pos[e].z() + std::sqrt(std::max(r * r - dx * dx - dy * dy, 0.0));
+    lift = std::max(lift, top - lo.z());
+  }
+  return lift;
 }
 
 }  // namespace trackbed::dem

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "dem/grading.h"
 #include "dem/material.h"
 #include "dem/sample.h"
 #include "dem/simulation.h"
@@ -50,12 +51,13 @@ class SectionModel {
   MaterialTable material_table(const StageMaterials& stage = {}) const;
 
   // A model of `particles` with the stage's walls. The sleeper is `sleeper_body` if given (a
-  // loaded sample's, at its seated pose) or a box at its design position; its vertical DOF is a
+  // loaded sample's, at its seated pose) or a box at its design position raised by
+  // sleeper_lift(particles); its vertical DOF is a
   // servo holding its weight (PFC's servo, automatic gain), every other DOF fixed.
   Simulation make(Particles particles, const StageWalls& walls, const StageMaterials& stage = {},
                   const std::optional<MeshBody>& sleeper_body = std::nullopt) const;
-  // The sleeper carries its weight to within 1 % and has stopped (below 1e-4 m/s): the extra
-  // condition of a seating stage.
+  // The sleeper carries the load its servo holds (its weight, or a tamping load) to within 1 %
+  // and has stopped (below 1e-4 m/s): the extra condition of a seating stage.
   bool sleeper_seated(const Simulation& sim) const;
 
   // The sample of a model's current state: bodies, walls, sleeper and contact springs, with the
@@ -76,9 +78,22 @@ class SectionModel {
   double preparation_damping_;
 };
 
-// Bodies whose centre lies in the design profile's trapezoid prism (above the base, at most at
-// the crest, inside the slopes and the section length) and none of whose elements reaches into
-// the sleeper's box: what is kept of a deposited bed when it is trimmed to the section.
+// The section, materials and grading recorded in a sample's info lines (SectionModel::info,
+// grading_info); throw InputError naming the missing line.
+TrackSection section_of(const Sample& sample);
+SectionMaterials materials_of(const Sample& sample);
+SieveTable grading_of(const Sample& sample);
+// The info lines of a grading: its source, sizes and passing.
+std::vector<std::pair<std::string, std::string>> grading_info(const SieveTable& grading);
+
+// What is kept of a deposited bed when it is trimmed to the section: the bodies whose centre lies
+// in the design profile's trapezoid prism (above the base, at most at the crest, inside the
+// slopes and the section length), except those whose centre is above the sleeper's bottom and
+// that reach into the sleeper's box. Stones under the sleeper that protrude into its box stay:
+// the sleeper is placed on them (sleeper_lift) and seats itself.
 std::vector<char> bodies_in_section(const Particles& p, const TrackSection& section);
+// How far above its design position the sleeper must start to clear every element (0 if none
+// reaches into its box).
+double sleeper_lift(const Particles& p, const TrackSection& section);
 
 }  // namespace trackbed::dem

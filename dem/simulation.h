@@ -93,6 +93,8 @@ class Simulation {
   double time() const { return time_; }
   long step_count() const { return steps_; }
   double time_step() const { return settings_.time_step; }
+  // Changes gravity between steps (e.g. off while clumps grow in a bed).
+  void set_gravity(const Vec3& g) { settings_.gravity = g; }
   // Changes the step between steps (a stage of a build with other contacts). Throws InputError
   // above the critical step, unless the settings allow it, like setup().
   void set_time_step(double dt);

@@ -1,0 +1,14 @@
+// What the drivers' reports share: JSON strings and the plotting scripts in cases/.
+#pragma once
+
+#include <string>
+
+namespace trackbed::cases {
+
+// The string with '"' and '\' escaped and control characters replaced by spaces.
+std::string json_escape(const std::string& s);
+// Runs cases/SCRIPT (matplotlib) on the results folder, its output in FOLDER/plot.log. A missing
+// python or matplotlib is a warning on stdout, not a failed run.
+void run_plot_script(const std::string& script, const std::string& folder);
+
+}  // namespace trackbed::cases

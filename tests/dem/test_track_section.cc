@@ -1,0 +1,72 @@
+// The single-sleeper section's geometry (track_section.h) and what a deposited bed keeps of it
+// (section_model.h).
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "dem/input_error.h"
+#include "dem/section_model.h"
+#include "dem/track_section.h"
+
+namespace trackbed::dem {
+namespace {
+
+TEST(TrackSection, PaperSectionDimensions) {
+  const TrackSection s;  // the defaults: the paper's section
+  EXPECT_DOUBLE_EQ(s.crest_z(), 0.535);
+  EXPECT_DOUBLE_EQ(s.half_crest_width(), 1.8);
+  EXPECT_NEAR(s.half_base_width(), 1.8 + 1.75 * 0.535, 1e-15);
+  // Trapezoid (3.6 m crest, 5.4725 m base, 0.535 m high) times 0.6 m, minus the sleeper.
+  const double expected = 0.5 * (3.6 + 5.4725) * 0.535 * 0.6 - 2.6 * 0.28 * 0.185;
+  EXPECT_NEAR(s.profile_volume(), expected, 1e-12);
+}
+
+TEST(TrackSection, ProfileVolumeAgreesWithItsMembership) {
+  // Monte Carlo over the bounding box: the fraction of points in_profile accepts times the box
+  // volume; 10^6 points give a relative standard error of about 1e-3.
+  const TrackSection s;
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> ux(-s.half_base_width(), s.half_base_width()),
+      uy(-0.5 * s.length, 0.5 * s.length), uz(0, s.crest_z());
+  const int n = 1000000;
+  int inside = 0;
+  for (int k = 0; k < n; ++k) inside += s.in_profile(Vec3(ux(rng), uy(rng), uz(rng)));
+  const double box = 2 * s.half_base_width() * s.length * s.crest_z();
+  EXPECT_NEAR(box * inside / n, s.profile_volume(), 4e-3 * s.profile_volume());
+  EXPECT_FALSE(s.in_profile(Vec3(0, 0, 0.4)));    // inside the sleeper
+  EXPECT_TRUE(s.in_profile(Vec3(0, 0, 0.3)));     // under it
+  EXPECT_TRUE(s.in_profile(Vec3(1.5, 0, 0.4)));   // the crib beside the sleeper end
+  EXPECT_FALSE(s.in_profile(Vec3(2.7, 0, 0.1)));  // beyond the slope
+}
+
+TEST(TrackSection, BadSectionsAreRefused) {
+  TrackSection s;
+  s.sleeper_width = 0.7;
+  try {
+    s.validate("case.prm");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("sleeper width"), std::string::npos) << e.what();
+  }
+  s = TrackSection();
+  s.slope = -1;
+  EXPECT_THROW(s.validate(""), InputError);
+}
+
+TEST(TrackSection, TrimKeepsTheProfileAndClearsTheSleeper) {
+  const TrackSection s;
+  Particles p;
+  p.add_ball(Vec3(0, 0, 0.2), 0.02, 0, 2800, 0);     // under the sleeper: kept
+  p.add_ball(Vec3(0, 0, 0.34), 0.02, 0, 2800, 1);    // under, protruding into it: kept
+  p.add_ball(Vec3(0, 0.15, 0.4), 0.02, 0, 2800, 2);  // crib, touching the side: removed
+  p.add_ball(Vec3(0, 0.2, 0.4), 0.02, 0, 2800, 3);   // crib, clear: kept
+  p.add_ball(Vec3(0, 0, 0.6), 0.02, 0, 2800, 4);     // above the crest: removed
+  p.add_ball(Vec3(2.6, 0, 0.2), 0.02, 0, 2800, 5);   // beyond the slope: removed
+  const std::vector<char> keep = bodies_in_section(p, s);
+  EXPECT_EQ(keep, (std::vector<char>{1, 1, 0, 1, 0, 0}));
+  // The protruding ball lifts the sleeper by its top above the bottom: 0.34 + 0.02 - 0.35.
+  EXPECT_NEAR(sleeper_lift(p.subset(keep), s), 0.01, 1e-12);
+}
+
+}  // namespace
+}  // namespace trackbed::dem
