@@ -24,7 +24,7 @@ from trackbed_vtu import read_vtu  # noqa: E402
 def save(fig, path):
     # Written under a temporary name and renamed, as every trackbed output.
     tmp = path + ".part.png"
-    fig.savefig(tmp, dpi=130)
+    fig.savefig(tmp, dpi=110)
     plt.close(fig)
     os.replace(tmp, path)
 
@@ -37,7 +37,7 @@ def plot_grading(folder):
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     ax.plot(size, [float(r["target"]) for r in rows], "k-o", label="target (sieve table)")
     ax.plot(size, [float(r["sample"]) for r in rows], "r--s", label="sample (sieve size)")
-    if any(r["sample"] != r["sample_equivalent_diameter"] for r in rows):
+    if any(r["sample"] != r.get("sample_equivalent_diameter", r["sample"]) for r in rows):
         ax.plot(size, [float(r["sample_equivalent_diameter"]) for r in rows], "g-.d",
                 label="sample (equivalent diameter)")
     if "base" in rows[0]:
@@ -78,7 +78,12 @@ def plot_sample(folder):
     with open(os.path.join(folder, "summary.json")) as f:
         summary = json.load(f)
 
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(11, 7.5))
+    # Panels in true proportions: a section is some ten times wider than high.
+    span = np.ptp(x, axis=0) + 0.1
+    width = 12.0
+    h1, h2 = width * span[2] / span[0], width * span[1] / span[0]
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(width, h1 + h2 + 2.2),
+                                   gridspec_kw={"height_ratios": [h1, h2]})
     # Cross-section: the circle each sphere cuts from the plane y = 0.
     cut = np.abs(x[:, 1]) < r
     rc = np.sqrt(r[cut] ** 2 - x[cut, 1] ** 2)
@@ -104,8 +109,9 @@ def plot_sample(folder):
         ax.set_ylabel("z (m)" if b == 2 else "y (m), along the track")
     ax1.set_title(f"Cross-section at y = 0: {summary['balls']:.0f} balls (grey), "
                   f"{summary['clumps']:.0f} clumps (colours), {summary['elements']:.0f} sphere "
-                  f"elements; porosity under the sleeper {summary['porosity_under_sleeper']:.3f}")
-    ax2.set_title("From above (sleeper outlined in blue)")
+                  f"elements\nporosity under the sleeper {summary['porosity_under_sleeper']:.3f}",
+                  fontsize=10)
+    ax2.set_title("From above (sleeper outlined in blue)", fontsize=10)
     fig.tight_layout()
     save(fig, os.path.join(folder, "sample.png"))
 
