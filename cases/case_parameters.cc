@@ -127,6 +127,9 @@ void declare(ParameterHandler& prm) {
                     "Sample built by 'trackbed build-sample' (.h5): its bodies, contact springs "
                     "and walls; its material names must be defined in 'materials'");
   prm.declare_entry("sample walls", "true", Bool(), "Add the sample's plane walls");
+  prm.declare_entry("clump material", "", Anything(),
+                    "Material of the sample's clumps (e.g. one without rolling friction, as in "
+                    "the paper); empty: the sample's own");
   prm.declare_entry("templates", "", Anything(),
                     "Clump templates as 'name:file.csv, name2:file2.csv'");
   prm.enter_subsection("generator");
@@ -139,6 +142,24 @@ void declare(ParameterHandler& prm) {
   prm.declare_entry("clump template", "", Anything(), "Template name for the clumps");
   prm.declare_entry("material", "", Anything(), "Material name (empty: the first material)");
   prm.leave_subsection();
+  prm.leave_subsection();
+
+  prm.enter_subsection("push test");
+  prm.declare_entry("mesh", "", Anything(),
+                    "Mesh held until the bed is in equilibrium, then pushed at the velocity of "
+                    "its DOF along 'direction' for 'distance', its resistance recorded in "
+                    "push.csv; the run ends with the push ('end time' is not used). Empty: none");
+  prm.declare_entry("direction", "x", Selection("x|y|z"), "The pushed DOF");
+  prm.declare_entry("distance", "0.005", Double(1e-9, 10), "Push distance, m");
+  prm.declare_entry("minimum hold", "0.02", Double(0, 100), "Time held at least, s");
+  prm.declare_entry("maximum hold", "1", Double(0, 100),
+                    "Time held at most, s (the push then starts; the summary says so)");
+  prm.declare_entry("equilibrium ratio", "1e-3", Double(1e-9, 1),
+                    "Mean unbalanced force ratio that ends the hold (3 checks in a row)");
+  prm.declare_entry("report displacement", "0.002", Double(0, 10),
+                    "Displacement at which the lateral force is also reported, m");
+  prm.declare_entry("smoothing window", "0.0002", Double(0, 1),
+                    "Displacement window of the running mean of the reported resistance, m");
   prm.leave_subsection();
 
   prm.enter_subsection("output");
@@ -313,6 +334,7 @@ CaseParameters read_case_file(const std::string& path) {
   c.particle_file = resolve(prm.get("file"));
   c.sample_file = resolve(prm.get("sample file"));
   c.sample_walls = prm.get_bool("sample walls");
+  c.clump_material = prm.get("clump material");
   for (const auto& item : dealii::Utilities::split_string_list(prm.get("templates"))) {
     const auto colon = item.find(':');
     if (colon == std::string::npos || colon == 0 || colon + 1 == item.size())
@@ -339,10 +361,27 @@ CaseParameters read_case_file(const std::string& path) {
     throw dem::InputError(path +
                           ": particles: 'sample file' is given with 'file' or a generator; "
                           "valid: a sample alone (its body ids are its own)");
+  if (!c.clump_material.empty() && c.sample_file.empty())
+    throw dem::InputError(path + ": particles/clump material needs particles/sample file");
   for (const auto& m : c.meshes)
     if (m.from_sample && c.sample_file.empty())
       throw dem::InputError(path + ": meshes/" + m.name +
                             ": 'from sample = true' needs particles/sample file");
+
+  prm.enter_subsection("push test");
+  c.push.mesh = prm.get("mesh");
+  c.push.axis = static_cast<int>(std::string("xyz").find(prm.get("direction")));
+  c.push.distance = prm.get_double("distance");
+  c.push.min_hold = prm.get_double("minimum hold");
+  c.push.max_hold = prm.get_double("maximum hold");
+  c.push.equilibrium_ratio = prm.get_double("equilibrium ratio");
+  if (c.push.max_hold < c.push.min_hold)
+    throw dem::InputError(path + ": push test/maximum hold = " + prm.get("maximum hold") +
+                          " is below minimum hold = " + prm.get("minimum hold") +
+                          "; valid: maximum hold >= minimum hold");
+  c.push.report_at = prm.get_double("report displacement");
+  c.push.smoothing = prm.get_double("smoothing window");
+  prm.leave_subsection();
 
   prm.enter_subsection("output");
   c.output_folder = prm.get("folder");

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "cases/push_test.h"
 #include "dem/material.h"
 #include "dem/mesh_body.h"
 #include "dem/types.h"
@@ -66,10 +67,12 @@ struct CaseParameters {
   std::vector<PlaneParameters> planes;
   std::vector<MeshParameters> meshes;
   std::string particle_file;
-  std::string sample_file;   // a sample built by `trackbed build-sample` (HDF5)
-  bool sample_walls = true;  // add the sample's plane walls
+  std::string sample_file;     // a sample built by `trackbed build-sample` (HDF5)
+  bool sample_walls = true;    // add the sample's plane walls
+  std::string clump_material;  // material of the sample's clumps; empty: the sample's
   std::vector<std::pair<std::string, std::string>> templates;  // name, CSV file
   GeneratorParameters generator;
+  PushTestParameters push;  // push.mesh empty: no push test
   // output
   std::string output_folder = "results/default";
   double history_interval = 1e-3, vtu_interval = 0, snapshot_interval = 0, progress_interval = 2;

@@ -84,7 +84,7 @@ void DemRun::build_model() {
     for (const auto& name : sample->materials)
       sample_material_.push_back(material_index(
           materials, name, prm_.file + ": particles/sample file " + prm_.sample_file));
-    particles = sample_particles(*sample);
+    particles = sample_particles(*sample, materials);
   }
   if (!prm_.particle_file.empty())
     dem::read_particle_file(prm_.particle_file, materials, templates, particles);
@@ -176,10 +176,20 @@ void DemRun::build_model() {
   }
 }
 
-dem::Particles DemRun::sample_particles(const dem::Sample& sample) {
+dem::Particles DemRun::sample_particles(const dem::Sample& sample,
+                                        const dem::MaterialTable& materials) {
   dem::Particles p = sample.particles;
   for (int& m : p.body_material) m = sample_material_[m];
   for (int& m : p.material) m = sample_material_[m];
+  if (!prm_.clump_material.empty()) {
+    const int clump =
+        material_index(materials, prm_.clump_material, prm_.file + ": particles/clump material");
+    for (int b = 0; b < p.num_bodies(); ++b) {
+      if (!p.is_clump[b]) continue;
+      p.body_material[b] = clump;
+      for (int e = p.first_element[b]; e < p.first_element[b + 1]; ++e) p.material[e] = clump;
+    }
+  }
   // Sample walls keep their numbers when they are added (first); its meshes are matched by name
   // to the case's meshes taken from the sample; contacts with anything else are dropped.
   const int sample_planes = static_cast<int>(sample.planes.size());
@@ -272,6 +282,7 @@ void DemRun::write_history() {
                               << p.v[b].z() << "," << p.w[b].x() << "," << p.w[b].y() << ","
                               << p.w[b].z() << "\n";
   }
+  if (push_) push_->record(*sim_);
 }
 
 void DemRun::write_frame() {
@@ -344,9 +355,12 @@ int DemRun::run() {
                             std::to_string(id) + "; valid: 0 to " + std::to_string(ids.size() - 1));
     tracked_.push_back(static_cast<int>(it - ids.begin()));
   }
+  if (!prm_.push.mesh.empty()) push_ = std::make_unique<PushTest>(prm_.push, *sim_, prm_.file);
+  // A push test ends when the push does; the step count is its estimate, updated as it goes.
+  const double end_time = push_ ? push_->expected_end(*sim_) : prm_.end_time;
   total_steps_ = prm_.number_of_steps > 0
                      ? prm_.number_of_steps
-                     : static_cast<long>(std::ceil(prm_.end_time / sim_->time_step() - 1e-9));
+                     : static_cast<long>(std::ceil(end_time / sim_->time_step() - 1e-9));
   open_outputs();
 
   const auto& p = sim_->particles();
@@ -380,11 +394,15 @@ int DemRun::run() {
 
 void DemRun::advance() {
   const double dt = sim_->time_step();
-  while (sim_->step_count() < total_steps_ && g_signal == 0) {
+  auto running = [&] {
+    return push_ ? !push_->finished(*sim_) : sim_->step_count() < total_steps_;
+  };
+  while (running() && g_signal == 0) {
     if (sim_->step_count() == prm_.warmup_steps && prm_.warmup_steps > 0) {
       loop_start_ = Clock::now();
       loop_start_step_ = sim_->step_count();
     }
+    if (push_) push_->control(*sim_);
     sim_->step();
     const double t = sim_->time() + 0.5 * dt;  // tolerant of round-off in the clock
     if (prm_.history_interval > 0 && t >= next_history_) {
@@ -402,6 +420,7 @@ void DemRun::advance() {
     if (std::chrono::duration<double>(Clock::now() - last_progress_).count() >=
         prm_.progress_interval) {
       sim_->check_finite();
+      if (push_) total_steps_ = std::lround(push_->expected_end(*sim_) / dt);
       report_progress(false);
     }
   }
@@ -423,6 +442,7 @@ void DemRun::finish(const std::string& status) {
   series_->walls->commit();
   series_->energy->commit();
   series_->bodies->commit();
+  if (push_) push_->write_csv(out_ + "/push.csv");
   write_summary(status);
   if (prm_.plot && finished) make_plot();
   std::cout << "trackbed: results in " << out_ << (finished ? "" : " (" + status + ")")
@@ -434,13 +454,9 @@ void DemRun::write_summary(const std::string& status) {
   const dem::EnergyBudget e = sim_->energy();
   const double wall = std::chrono::duration<double>(Clock::now() - start_).count();
   const long timed = sim_->step_count() - loop_start_step_;
-  struct Item {
-    std::string key, label, unit;
-    double value;
-  };
   const double scale = std::max({std::abs(e.kinetic) + e.strain, e.dissipated(),
                                  std::abs(e.gravity_work), std::abs(e.wall_work), 1e-300});
-  std::vector<Item> items = {
+  std::vector<SummaryItem> items = {
       {"bodies", "bodies", "", double(p.num_bodies())},
       {"clumps", "clumps", "", double(p.num_clumps())},
       {"elements", "sphere elements", "", double(p.num_elements())},
@@ -472,6 +488,8 @@ void DemRun::write_summary(const std::string& status) {
     for (int k = 0; k < 3; ++k)
       items.push_back({"mesh_force_" + std::string(1, "xyz"[k]) + "_" + m.name,
                        "mesh " + m.name + " force " + "xyz"[k], "N", m.contact_force[k]});
+  if (push_)
+    for (const auto& i : push_->summary()) items.push_back(i);
 
   dem::AtomicFile json(out_ + "/summary.json");
   json.stream() << std::setprecision(10) << "{\n  \"case\": \"" << json_escape(prm_.file)
@@ -496,6 +514,7 @@ void DemRun::write_summary(const std::string& status) {
 
 void DemRun::make_plot() {
   run_plot_script("plot_history.py", out_);
+  if (push_) run_plot_script("plot_push.py", out_, "push-plot.log");
 }
 
 }  // namespace trackbed::cases

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "cases/case_parameters.h"
+#include "cases/push_test.h"
 #include "dem/contact_state.h"
 #include "dem/sample.h"
 #include "dem/simulation.h"
@@ -31,7 +32,8 @@ class DemRun {
   void build_model();
   // The bodies of particles/sample file with the case's material indices, and the sample's
   // contact springs renumbered to the model's walls (restored after setup).
-  dem::Particles sample_particles(const dem::Sample& sample);
+  // With particles/clump material, the clumps get that material.
+  dem::Particles sample_particles(const dem::Sample& sample, const dem::MaterialTable& materials);
   void add_sample_walls(const dem::Sample& sample);
   void open_outputs();
   void write_history();
@@ -50,6 +52,7 @@ class DemRun {
 
   struct Series;
   std::unique_ptr<Series> series_;
+  std::unique_ptr<PushTest> push_;
   std::unique_ptr<dem::PvdCollection> pvd_particles_, pvd_contacts_, pvd_walls_;
   std::vector<dem::Vec3> initial_positions_;
   std::vector<int> tracked_;  // body indices of output/tracked bodies

@@ -3,7 +3,11 @@
 #include <deal.II/base/exceptions.h>
 
 #include <filesystem>
+#include <fstream>
+#include <regex>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include "dem/input_error.h"
 
@@ -85,15 +89,69 @@ std::string one_line(const std::exception& e) {
   return out;
 }
 
+namespace {
+
+// A parameter file with its 'include FILE' lines replaced by the files' contents, recursively;
+// each included name is relative to the folder of the file that names it. `origin` gives the
+// file and line of every line of `text`, for error messages.
+struct ExpandedFile {
+  std::string text;
+  std::vector<std::pair<std::string, int>> origin;
+};
+
+void expand(const std::string& path, ExpandedFile& out, int depth) {
+  namespace fs = std::filesystem;
+  std::ifstream in(path);
+  if (!in) throw dem::InputError(path + ": cannot be read; valid: a readable .prm file");
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    const std::size_t first = line.find_first_not_of(" \t");
+    const std::string word = first == std::string::npos ? "" : line.substr(first, 8);
+    if (word == "include " || word == "INCLUDE ") {
+      std::string name = line.substr(first + 8);
+      name = name.substr(0, name.find('#'));
+      name.erase(0, name.find_first_not_of(" \t"));
+      name.erase(name.find_last_not_of(" \t\r") + 1);
+      const fs::path target =
+          fs::path(name).is_absolute() ? fs::path(name) : fs::path(path).parent_path() / name;
+      const std::string where = path + ":" + std::to_string(number) + ": include " + name;
+      if (depth >= 16)
+        throw dem::InputError(where + ": includes nested more than 16 deep (a cycle?)");
+      if (!fs::exists(target))
+        throw dem::InputError(where +
+                              ": file not found; valid: a path relative to the folder "
+                              "of the including file");
+      expand(target.lexically_normal().string(), out, depth + 1);
+      continue;
+    }
+    out.text += line + "\n";
+    out.origin.emplace_back(path, number);
+  }
+}
+
+}  // namespace
+
 void parse_parameter_file(dealii::ParameterHandler& prm, const std::string& path,
                           const std::string& print_command) {
   if (!std::filesystem::exists(path))
     throw dem::InputError(path + ": file not found; valid: a .prm file (see '" + print_command +
                           "')");
+  ExpandedFile file;
+  expand(path, file, 0);
   try {
-    prm.parse_input(path);
+    prm.parse_input_from_string(file.text);
   } catch (const std::exception& e) {
-    throw dem::InputError(path + ": " + one_line(e) + "; valid names and ranges: " + print_command);
+    // deal.II names the line of the expanded text: name the file and line it came from.
+    std::string message = one_line(e);
+    const std::regex where("Line <([0-9]+)> of file <[^>]*>");
+    std::smatch m;
+    if (std::regex_search(message, m, where)) {
+      const std::size_t k = std::stoul(m[1].str()) - 1;
+      if (k < file.origin.size())
+        message = m.prefix().str() + "Line <" + std::to_string(file.origin[k].second) +
+                  "> of file <" + file.origin[k].first + ">" + m.suffix().str();
+    }
+    throw dem::InputError(path + ": " + message + "; valid names and ranges: " + print_command);
   }
 }
 

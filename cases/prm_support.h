@@ -28,7 +28,9 @@ void read_material_values(const dealii::ParameterHandler& prm, dem::Material& m)
 // one line.
 std::string one_line(const std::exception& e);
 // Parses `path` into `prm` (declared by the caller); throws dem::InputError naming the file and
-// pointing at `trackbed --print-parameters` for a missing file or a parse error.
+// pointing at `trackbed --print-parameters` for a missing file or a parse error. Files named by
+// 'include FILE' lines are found relative to the folder of the file that names them; errors
+// name the file and line they are in.
 void parse_parameter_file(dealii::ParameterHandler& prm, const std::string& path,
                           const std::string& print_command);
 

@@ -6,9 +6,11 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <string>
 
@@ -24,6 +26,15 @@ inline std::string slurp(const fs::path& p) {
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
+}
+
+// A number of FOLDER/summary.json ("key": value); NaN and a test failure if it is not there.
+inline double summary_number(const fs::path& folder, const std::string& key) {
+  const std::string json = slurp(folder / "summary.json");
+  const std::regex re("\"" + key + "\": ([-0-9.eE+]+)");
+  std::smatch m;
+  if (!std::regex_search(json, m, re)) ADD_FAILURE() << key << " not in " << folder;
+  return m.size() > 1 ? std::stod(m[1]) : NAN;
 }
 
 class Cli : public ::testing::Test {

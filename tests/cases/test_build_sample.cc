@@ -24,15 +24,6 @@ const char* const kMicroSection =
     "  set length = 0.2\nend\n"
     "subsection build\n  set deposition friction factor = 0.3\n  set threads = 1\nend\n";
 
-// A number of summary.json ("key": value).
-double summary_number(const fs::path& folder, const std::string& key) {
-  const std::string json = slurp(folder / "summary.json");
-  const std::regex re("\"" + key + "\": ([-0-9.eE+]+)");
-  std::smatch m;
-  if (!std::regex_search(json, m, re)) ADD_FAILURE() << key << " not in summary.json";
-  return m.size() > 1 ? std::stod(m[1]) : NAN;
-}
-
 class BuildSample : public Cli {
  protected:
   // Builds the micro ball sample once per test that needs it; returns its folder.

@@ -23,6 +23,26 @@ TEST_F(Cli, UnknownParameterNamesFileAndLine) {
   expect_error(run("run " + f.string()), {f.string(), "tme step", "Line <"});
 }
 
+// 'include FILE' is relative to the including file, nests, and later lines override; an error
+// in an included file names that file and its line; a missing include is one line too.
+TEST_F(Cli, IncludedFilesNestAndNameTheirLines) {
+  fs::create_directories(dir_ / "shared" / "deeper");
+  write("shared/deeper/steps.prm", "subsection simulation\n  set number of steps = 7\nend\n");
+  write("shared/base.prm", small_case() + "include deeper/steps.prm\n");
+  const fs::path good = write("good.prm",
+                              "include shared/base.prm\nsubsection simulation\n"
+                              "  set number of steps = 9\nend\n");
+  const Result r = run("run " + good.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find(" 9 steps"), std::string::npos) << r.out;
+
+  write("shared/deeper/steps.prm", "subsection simulation\n  set numbr of steps = 7\nend\n");
+  expect_error(run("run " + good.string()),
+               {"Line <2> of file <" + (dir_ / "shared/deeper/steps.prm").string(), "numbr"});
+  const fs::path missing = write("missing.prm", "include nowhere.prm\n");
+  expect_error(run("run " + missing.string()), {missing.string() + ":1", "nowhere.prm"});
+}
+
 TEST_F(Cli, OutOfRangeValueNamesParameterAndRange) {
   const fs::path f = write("case.prm", small_case("subsection materials\n  subsection material 0\n"
                                                   "    set normal stiffness = -5\n  end\nend\n"));
@@ -80,6 +100,26 @@ TEST_F(Cli, BadDofAndMeshFile) {
                                                 "  subsection mesh 0\n    set file = none.stl\n"
                                                 "  end\nend\n"));
   expect_error(run("run " + g.string()), {"none.stl"});
+}
+
+// A push test needs a mesh of that name whose push DOF has a velocity, and a hold that ends.
+TEST_F(Cli, BadPushTest) {
+  const std::string mesh =
+      "subsection meshes\n  set number of meshes = 1\n  subsection mesh 0\n    set name = plate\n"
+      "    set box = 0, 0, 0.5, 0.3, 0.3, 0.6\n    set dof x = %s\n  end\nend\n";
+  auto case_with = [&](const std::string& dof, const std::string& push) {
+    std::string m = mesh;
+    m.replace(m.find("%s"), 2, dof);
+    return small_case(m + "subsection push test\n" + push + "end\n");
+  };
+  const fs::path a = write("a.prm", case_with("velocity 0.01", "  set mesh = sleeper\n"));
+  expect_error(run("run " + a.string()), {"push test/mesh = sleeper", "valid: plate"});
+  const fs::path b = write("b.prm", case_with("fixed", "  set mesh = plate\n"));
+  expect_error(run("run " + b.string()), {"push test/mesh = plate", "'dof x' must be"});
+  const fs::path c = write("c.prm", case_with("velocity 0.01",
+                                              "  set mesh = plate\n"
+                                              "  set maximum hold = 0.01\n"));
+  expect_error(run("run " + c.string()), {"maximum hold = 0.01", "minimum hold"});
 }
 
 TEST_F(Cli, GoodRunWritesResultsAndIsReproducible) {

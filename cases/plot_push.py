@@ -1,0 +1,58 @@
+#!/usr/bin/env python3
+"""Draws push.png of a push-test results folder: the lateral resistance of the pushed body and its
+shares by mesh part (base, sides, ends) against its displacement. Usage: plot_push.py RESULTS_DIR"""
+import csv
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def read_push(folder):
+    """The columns of FOLDER/push.csv as lists of floats, keyed by header."""
+    with open(os.path.join(folder, "push.csv")) as f:
+        rows = list(csv.reader(f))
+    header, data = rows[0], rows[1:]
+    return {h: [float(r[i]) for r in data] for i, h in enumerate(header)}
+
+
+def running_mean(d, r, window):
+    """r averaged over +-window/2 in displacement d, as trackbed's summary does."""
+    out, lo, hi, total = [], 0, 0, 0.0
+    for x in d:
+        while hi < len(d) and d[hi] <= x + 0.5 * window:
+            total += r[hi]
+            hi += 1
+        while d[lo] < x - 0.5 * window:
+            total -= r[lo]
+            lo += 1
+        out.append(total / (hi - lo))
+    return out
+
+
+def main(folder):
+    push = read_push(folder)
+    d = [1e3 * v for v in push["displacement_m"]]
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    total = push["resistance_n"]
+    ax.plot(d, [1e-3 * v for v in total], "-", color="0.7", lw=0.8, label="total, each row")
+    ax.plot(d, [1e-3 * v for v in running_mean(push["displacement_m"], total, 0.0002)], "k-",
+            lw=2, label="total, 0.2 mm running mean")
+    for h in push:
+        if h.startswith("resistance_") and h.endswith("_n") and h != "resistance_n":
+            part = h[len("resistance_"):-2]
+            ax.plot(d, [1e-3 * v for v in push[h]], "--", label=part)
+    ax.set_xlabel("lateral displacement (mm)")
+    ax.set_ylabel("lateral resistance (kN)")
+    ax.set_title(os.path.basename(os.path.abspath(folder)))
+    ax.grid(True, alpha=0.3)
+    ax.legend()
+    fig.tight_layout()
+    fig.savefig(os.path.join(folder, "push.png"), dpi=120)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1])

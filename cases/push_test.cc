@@ -1,0 +1,187 @@
+#include "cases/push_test.h"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+
+#include "dem/atomic_file.h"
+#include "dem/input_error.h"
+
+namespace trackbed::cases {
+
+namespace {
+const char* const kAxes = "xyz";
+}
+
+PushTest::PushTest(PushTestParameters prm, dem::Simulation& sim, const std::string& case_file)
+    : prm_(std::move(prm)) {
+  const auto& meshes = sim.meshes();
+  const auto it = std::find_if(meshes.begin(), meshes.end(),
+                               [&](const dem::MeshBody& m) { return m.name == prm_.mesh; });
+  const std::string where = case_file + ": push test/mesh = " + prm_.mesh;
+  if (it == meshes.end())
+    throw dem::InputError(where + ": no mesh of this name in 'meshes'" +
+                          (meshes.empty() ? "" : "; valid: " + meshes.front().name));
+  mesh_ = static_cast<int>(it - meshes.begin());
+  const dem::DofControl& dof = it->dof[prm_.axis];
+  if (dof.mode != dem::DofMode::velocity || dof.value == 0)
+    throw dem::InputError(where + ": its 'dof " + std::string(1, kAxes[prm_.axis]) +
+                          "' must be 'velocity V' with V != 0 (the push velocity, m/s)");
+  velocity_ = dof.value;
+  weight_ = it->mass * sim.settings().gravity.norm();
+  parts_ = it->local.part_names;
+  start_ = it->x[prm_.axis];  // the push DOF does not move during the hold
+}
+
+double PushTest::expected_end(const dem::Simulation& sim) const {
+  const double start = pushing() ? push_start_ : std::max(sim.time(), prm_.min_hold);
+  return start + prm_.distance / std::abs(velocity_);
+}
+
+bool PushTest::finished(const dem::Simulation& sim) const {
+  return pushing() && sim.time() >= expected_end(sim) - 0.5 * sim.time_step();
+}
+
+void PushTest::control(dem::Simulation& sim) {
+  constexpr long kCheckEvery = 200;
+  constexpr int kConfirmations = 3;
+  if (!pushing() && sim.time() >= prm_.min_hold && sim.step_count() % kCheckEvery == 0) {
+    hold_ratio_ = sim.unbalanced_force_ratio();
+    confirmations_ = hold_ratio_ < prm_.equilibrium_ratio ? confirmations_ + 1 : 0;
+    hold_converged_ = confirmations_ >= kConfirmations;
+    if (hold_converged_ || sim.time() >= prm_.max_hold) {
+      push_start_ = sim.time();
+      record(sim);  // the first row of push.csv, at zero displacement
+    }
+  }
+  sim.meshes()[mesh_].dof[prm_.axis].value = pushing() ? velocity_ : 0.0;
+}
+
+double PushTest::displacement(const dem::Simulation& sim) const {
+  return std::copysign(1.0, velocity_) * (sim.meshes()[mesh_].x[prm_.axis] - start_);
+}
+
+void PushTest::record(const dem::Simulation& sim) {
+  if (!pushing()) return;
+  const dem::MeshBody& body = sim.meshes()[mesh_];
+  const double e = std::copysign(1.0, velocity_);
+  Row r;
+  r.time = sim.time();
+  r.displacement = displacement(sim);
+  r.resistance = -e * body.contact_force[prm_.axis];
+  r.vertical_load = body.contact_force.z();
+  for (const auto& f : body.part_force) r.part_resistance.push_back(-e * f[prm_.axis]);
+  r.max_particle_force = sim.max_particle_contact_force();
+  const int wall = static_cast<int>(sim.planes().size()) + mesh_;
+  double m = 0;
+  sim.for_each_contact([&](const dem::ContactRecord& c) {
+    if (c.wall == wall) m = std::max(m, c.force.norm());
+  });
+  r.max_body_force = m;
+  // The particles are (nearly) at rest, so what the pushed body puts into the bed along e
+  // leaves it through the other walls: the sum of all wall loads along e is ~0 on average.
+  r.unbalance = 0;
+  for (const auto& p : sim.planes()) r.unbalance += e * p.force[prm_.axis];
+  for (const auto& b : sim.meshes()) r.unbalance += e * b.contact_force[prm_.axis];
+  rows_.push_back(std::move(r));
+}
+
+void PushTest::write_csv(const std::string& path) const {
+  dem::AtomicFile f(path);
+  auto& s = f.stream();
+  s << "time_s,displacement_m,resistance_n,vertical_load_n";
+  for (const auto& p : parts_) s << ",resistance_" << p << "_n";
+  s << ",max_particle_contact_force_n,max_body_contact_force_n,wall_load_sum_n\n";
+  s << std::setprecision(10);
+  for (const auto& r : rows_) {
+    s << r.time << "," << r.displacement << "," << r.resistance << "," << r.vertical_load;
+    for (double v : r.part_resistance) s << "," << v;
+    s << "," << r.max_particle_force << "," << r.max_body_force << "," << r.unbalance << "\n";
+  }
+  f.commit();
+}
+
+double PushTest::interpolated_at(const std::vector<double>& curve, double d) const {
+  for (std::size_t k = 1; k < rows_.size(); ++k) {
+    const Row &a = rows_[k - 1], &b = rows_[k];
+    if (b.displacement >= d && a.displacement <= d) {
+      const double span = b.displacement - a.displacement;
+      const double w = span > 0 ? (d - a.displacement) / span : 1.0;
+      return curve[k - 1] + w * (curve[k] - curve[k - 1]);
+    }
+  }
+  return NAN;
+}
+
+std::vector<double> PushTest::smoothed_resistance() const {
+  // Running mean over a window of `smoothing` in displacement, centred, shortened at the ends.
+  std::vector<double> out(rows_.size());
+  std::size_t lo = 0, hi = 0;
+  double sum = 0;
+  for (std::size_t k = 0; k < rows_.size(); ++k) {
+    const double d = rows_[k].displacement, h = 0.5 * prm_.smoothing;
+    while (hi < rows_.size() && rows_[hi].displacement <= d + h) sum += rows_[hi++].resistance;
+    while (rows_[lo].displacement < d - h) sum -= rows_[lo++].resistance;
+    out[k] = sum / double(hi - lo);
+  }
+  return out;
+}
+
+std::vector<SummaryItem> PushTest::summary() const {
+  std::vector<SummaryItem> items;
+  if (rows_.empty()) return items;
+  const std::vector<double> smooth = smoothed_resistance();
+  const std::size_t peak = std::max_element(smooth.begin(), smooth.end()) - smooth.begin();
+  const auto raw = std::max_element(rows_.begin(), rows_.end(), [](const Row& a, const Row& b) {
+    return a.resistance < b.resistance;
+  });
+  const Row& last = rows_.back();
+  double max_particle = 0, max_body = 0, load = 0, resistance = 0, unbalance = 0;
+  for (const auto& r : rows_) {
+    max_particle = std::max(max_particle, r.max_particle_force);
+    max_body = std::max(max_body, r.max_body_force);
+    load += r.vertical_load / rows_.size();
+    resistance += r.resistance;
+    unbalance += r.unbalance;
+  }
+  // Shares at the peak, from the parts' forces averaged over the same window.
+  std::vector<double> part(parts_.size(), 0.0);
+  double total = 0;
+  for (const auto& r : rows_)
+    if (std::abs(r.displacement - rows_[peak].displacement) <= 0.5 * prm_.smoothing) {
+      total += r.resistance;
+      for (std::size_t k = 0; k < part.size(); ++k) part[k] += r.part_resistance[k];
+    }
+  const std::string mm = std::to_string(std::lround(prm_.report_at * 1e3));
+  items = {
+      {"hold_time_s", "hold before the push", "s", push_start_},
+      {"hold_converged", "hold reached equilibrium (1 yes, 0 no)", "", hold_converged_ ? 1. : 0.},
+      {"hold_unbalanced_ratio", "unbalanced force ratio at the push start", "", hold_ratio_},
+      {"push_velocity_m_s", "push velocity", "m/s", std::abs(velocity_)},
+      {"push_distance_m", "push distance reached", "m", last.displacement},
+      {"peak_lateral_force_n", "peak lateral force (window mean)", "N", smooth[peak]},
+      {"displacement_at_peak_m", "displacement at the peak", "m", rows_[peak].displacement},
+      {"peak_lateral_force_raw_n", "peak lateral force (single row)", "N", raw->resistance},
+      {"lateral_force_at_" + mm + "mm_n", "lateral force at " + mm + " mm (window mean)", "N",
+       interpolated_at(smooth, prm_.report_at)},
+      {"final_lateral_force_n", "lateral force at the end (window mean)", "N", smooth.back()},
+      {"max_particle_contact_force_end_n", "max particle-particle contact force at the end", "N",
+       last.max_particle_force},
+      {"max_particle_contact_force_push_n", "max particle-particle contact force in the push", "N",
+       max_particle},
+      {"max_sleeper_contact_force_end_n", "max particle-" + prm_.mesh + " contact force at the end",
+       "N", last.max_body_force},
+      {"max_sleeper_contact_force_push_n",
+       "max particle-" + prm_.mesh + " contact force in the push", "N", max_body},
+      {"mean_vertical_load_over_weight", "mean vertical contact load / weight", "",
+       weight_ > 0 ? load / weight_ : NAN},
+      {"horizontal_balance_error", "horizontal force balance error (push mean)", "",
+       resistance != 0 ? std::abs(unbalance) / resistance : NAN},
+  };
+  for (std::size_t k = 0; k < parts_.size(); ++k)
+    items.push_back({"share_" + parts_[k], "share of " + parts_[k] + " at the peak", "",
+                     total != 0 ? part[k] / total : NAN});
+  return items;
+}
+
+}  // namespace trackbed::cases

@@ -1,0 +1,86 @@
+// A push test of a mesh body (the single-sleeper lateral resistance test of seed-facts.md): the
+// body is held until the bed is in equilibrium under the case's contact law (a sample built with
+// other contacts, e.g. with rolling resistance that the case removes, first re-settles), then
+// moves at the constant velocity of its push DOF until it has moved `distance`; its resistance is
+// recorded against its displacement, split by the named parts of its mesh (a sleeper's base,
+// sides facing the cribs, ends facing the shoulders).
+//
+//   equilibrium: mean unbalanced force ratio (Simulation::unbalanced_force_ratio) below
+//                `equilibrium ratio` at 3 checks in a row, 200 steps apart, after `minimum hold`;
+//                at `maximum hold` the push starts anyway and the summary says so
+//
+//   resistance R = -F . e     F: contact force the particles exert on the body, e: push direction
+//   share of part p = R_p / R  at the peak of R
+// R is reported as its running mean over a window of displacement (default 0.2 mm), since single
+// stones slipping rattle the instantaneous value; push.csv keeps the raw rows.
+//
+// Outputs: push.csv (one row per history row of the push), summary items, push.png.
+// Theory and definitions: docs/validation.md, "Lateral push test".
+#pragma once
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "cases/report_support.h"
+#include "dem/simulation.h"
+
+namespace trackbed::cases {
+
+struct PushTestParameters {
+  std::string mesh;                 // the pushed mesh body; empty: no push test
+  int axis = 0;                     // 0 x, 1 y, 2 z
+  double distance = 0.005;          // m: the run ends when the body has moved this far
+  double min_hold = 0.02;           // s at rest at least before the push
+  double max_hold = 1.0;            // s at rest at most
+  double equilibrium_ratio = 1e-3;  // mean unbalanced force ratio that ends the hold
+  double report_at = 0.002;         // m: the displacement at which the force is also reported
+  double smoothing = 0.0002;        // m: window of the running mean of the resistance
+};
+
+class PushTest {
+ public:
+  // Checks that the mesh exists and that its push DOF is velocity-controlled with a non-zero
+  // velocity; throws dem::InputError naming `case_file` otherwise. Call after Simulation::setup.
+  PushTest(PushTestParameters prm, dem::Simulation& sim, const std::string& case_file);
+
+  // Simulated time at which the test will end: push start (or its earliest time while the body is
+  // held) + distance / |velocity|.
+  double expected_end(const dem::Simulation& sim) const;
+  bool finished(const dem::Simulation& sim) const;
+  // Before every step: holds the push DOF until equilibrium, then moves it.
+  void control(dem::Simulation& sim);
+  // After a history row: one row of push.csv (during the push only).
+  void record(const dem::Simulation& sim);
+
+  void write_csv(const std::string& path) const;
+  std::vector<SummaryItem> summary() const;
+
+ private:
+  struct Row {
+    double time, displacement, resistance, vertical_load;
+    std::vector<double> part_resistance;
+    double max_particle_force, max_body_force;
+    double unbalance;  // sum of all wall and body loads along e, N: ~0 for a bed at rest
+  };
+  double displacement(const dem::Simulation& sim) const;
+  // The resistance averaged over a window of prm_.smoothing in displacement: the curve a
+  // reading at one instant would give is rattled by single stones slipping.
+  std::vector<double> smoothed_resistance() const;
+  // A curve over the rows interpolated at displacement d (NaN if the push did not get there).
+  double interpolated_at(const std::vector<double>& curve, double d) const;
+
+  bool pushing() const { return push_start_ >= 0; }
+
+  PushTestParameters prm_;
+  int mesh_ = 0;
+  double velocity_ = 0, start_ = 0, weight_ = 0;
+  double push_start_ = -1;  // s; < 0 while held
+  int confirmations_ = 0;
+  double hold_ratio_ = NAN;  // unbalanced force ratio when the push started
+  bool hold_converged_ = false;
+  std::vector<std::string> parts_;
+  std::vector<Row> rows_;
+};
+
+}  // namespace trackbed::cases
