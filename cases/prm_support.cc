@@ -33,28 +33,24 @@ std::array<double, 6> six_of(const dealii::ParameterHandler& prm, const std::str
 void declare_material_values(dealii::ParameterHandler& prm, const dem::Material& d,
                              const std::string& role) {
   using dealii::Patterns::Double;
-  auto text = [](double v) {
-    std::ostringstream s;
-    s << v;
-    return s.str();
-  };
-  prm.declare_entry("density", text(d.density), Double(1e-9),
+  prm.declare_entry("density", default_text(d.density), Double(1e-9),
                     "kg/m^3" + (role.empty() ? std::string() : " (" + role + ")"));
-  prm.declare_entry("normal stiffness", text(d.normal_stiffness), Double(1e-9, 1e15),
+  prm.declare_entry("normal stiffness", default_text(d.normal_stiffness), Double(1e-9, 1e15),
                     "Entity normal stiffness, N/m (pairs combine in series unless a contact "
                     "pair gives its own value)");
-  prm.declare_entry("shear stiffness", text(d.shear_stiffness), Double(0, 1e15),
+  prm.declare_entry("shear stiffness", default_text(d.shear_stiffness), Double(0, 1e15),
                     "Entity shear stiffness, N/m");
-  prm.declare_entry("friction", text(d.friction), Double(0, 100), "Coulomb friction coefficient");
-  prm.declare_entry("rolling friction", text(d.rolling_friction), Double(0, 100),
+  prm.declare_entry("friction", default_text(d.friction), Double(0, 100),
+                    "Coulomb friction coefficient");
+  prm.declare_entry("rolling friction", default_text(d.rolling_friction), Double(0, 100),
                     "Rolling resistance coefficient mu_r (0: none)");
-  prm.declare_entry("normal damping ratio", text(d.normal_damping_ratio), Double(0, 1),
+  prm.declare_entry("normal damping ratio", default_text(d.normal_damping_ratio), Double(0, 1),
                     "Normal dashpot, fraction of critical");
-  prm.declare_entry("shear damping ratio", text(d.shear_damping_ratio), Double(0, 1),
+  prm.declare_entry("shear damping ratio", default_text(d.shear_damping_ratio), Double(0, 1),
                     "Shear dashpot, fraction of critical");
-  prm.declare_entry("normal damping rate", text(d.normal_damping_rate), Double(0, 1e9),
+  prm.declare_entry("normal damping rate", default_text(d.normal_damping_rate), Double(0, 1e9),
                     "Normal dashpot as gamma_n in 1/s: F = gamma_n m_eff v_n (LAMMPS style)");
-  prm.declare_entry("local damping", text(d.local_damping), Double(0, 0.999),
+  prm.declare_entry("local damping", default_text(d.local_damping), Double(0, 0.999),
                     "Local damping coefficient alpha");
 }
 
@@ -68,6 +64,12 @@ void read_material_values(const dealii::ParameterHandler& prm, dem::Material& m)
   m.shear_damping_ratio = prm.get_double("shear damping ratio");
   m.normal_damping_rate = prm.get_double("normal damping rate");
   m.local_damping = prm.get_double("local damping");
+}
+
+std::string default_text(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
 }
 
 std::string one_line(const std::exception& e) {

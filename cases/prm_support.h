@@ -27,6 +27,8 @@ void read_material_values(const dealii::ParameterHandler& prm, dem::Material& m)
 // deal.II's exception text is several lines; users get the "additional information" part as
 // one line.
 std::string one_line(const std::exception& e);
+// A number as the text of a parameter's default (an ostream's default 6 significant digits).
+std::string default_text(double v);
 // Parses `path` into `prm` (declared by the caller); throws dem::InputError naming the file and
 // pointing at `trackbed --print-parameters` for a missing file or a parse error. Files named by
 // 'include FILE' lines are found relative to the folder of the file that names them; errors

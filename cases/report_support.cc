@@ -15,8 +15,7 @@ std::string json_escape(const std::string& s) {
   return out;
 }
 
-void run_plot_script(const std::string& script, const std::string& folder,
-                     const std::string& log) {
+void run_plot_script(const std::string& script, const std::string& folder, const std::string& log) {
   namespace fs = std::filesystem;
   // Debian's python3 is the one with python3-matplotlib (a python first on the user's PATH may
   // lack it).

@@ -4,7 +4,6 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <sstream>
 
 #include "cases/prm_support.h"
 #include "dem/grading.h"
@@ -28,25 +27,20 @@ const char* const kPresets = "all-ball|all-clump|half-by-height|optimised|custom
 void declare(ParameterHandler& prm) {
   const dem::SampleBuildSettings b;
   const dem::TrackSection& s = b.section;
-  auto num = [](double v) {
-    std::ostringstream o;
-    o << v;
-    return o.str();
-  };
   prm.enter_subsection("section");
-  prm.declare_entry("sleeper length", num(s.sleeper_length), Double(1e-3, 100),
+  prm.declare_entry("sleeper length", default_text(s.sleeper_length), Double(1e-3, 100),
                     "m, across the track (x, the push direction)");
-  prm.declare_entry("sleeper width", num(s.sleeper_width), Double(1e-3, 100),
+  prm.declare_entry("sleeper width", default_text(s.sleeper_width), Double(1e-3, 100),
                     "m, along the track (y)");
-  prm.declare_entry("sleeper height", num(s.sleeper_height), Double(1e-3, 100), "m");
-  prm.declare_entry("sleeper mass", num(s.sleeper_mass), Double(1e-6, 1e6), "kg");
-  prm.declare_entry("depth under sleeper", num(s.depth_under_sleeper), Double(1e-3, 100),
+  prm.declare_entry("sleeper height", default_text(s.sleeper_height), Double(1e-3, 100), "m");
+  prm.declare_entry("sleeper mass", default_text(s.sleeper_mass), Double(1e-6, 1e6), "kg");
+  prm.declare_entry("depth under sleeper", default_text(s.depth_under_sleeper), Double(1e-3, 100),
                     "m of ballast between the base (z = 0) and the sleeper bottom");
-  prm.declare_entry("shoulder width", num(s.shoulder_width), Double(0, 100),
+  prm.declare_entry("shoulder width", default_text(s.shoulder_width), Double(0, 100),
                     "m of crest beyond each sleeper end");
-  prm.declare_entry("slope", num(s.slope), Double(0, 100),
+  prm.declare_entry("slope", default_text(s.slope), Double(0, 100),
                     "Horizontal per vertical of the shoulder slopes (1:1.75 -> 1.75)");
-  prm.declare_entry("length", num(s.length), Double(1e-3, 1000),
+  prm.declare_entry("length", default_text(s.length), Double(1e-3, 1000),
                     "m along the track: one sleeper spacing, crib walls at +-length/2");
   prm.declare_entry("boundary", "walls", Selection("walls|periodic"),
                     "Along the track: frictionless crib walls (symmetry planes) or periodic");
@@ -68,39 +62,41 @@ void declare(ParameterHandler& prm) {
   prm.leave_subsection();
 
   prm.enter_subsection("build");
-  prm.declare_entry("target porosity", num(b.target_porosity), Double(0.2, 0.7),
+  prm.declare_entry("target porosity", default_text(b.target_porosity), Double(0.2, 0.7),
                     "Porosity under the sleeper that compaction aims at (reached from above)");
-  prm.declare_entry("overfill", num(b.overfill), Double(0, 1),
+  prm.declare_entry("overfill", default_text(b.overfill), Double(0, 1),
                     "Extra volume deposited above the crest, fraction of the box volume");
-  prm.declare_entry("cloud solid fraction", num(b.cloud_solid_fraction), Double(0.01, 0.35),
+  prm.declare_entry("cloud solid fraction", default_text(b.cloud_solid_fraction),
+                    Double(0.01, 0.35),
                     "Solid fraction of the loose cloud placed by random addition");
-  prm.declare_entry("deposition damping", num(b.deposition_damping), Double(0, 0.999),
+  prm.declare_entry("deposition damping", default_text(b.deposition_damping), Double(0, 0.999),
                     "Ballast local damping while the cloud falls");
-  prm.declare_entry("preparation damping ratio", num(b.preparation_damping), Double(0, 1),
+  prm.declare_entry("preparation damping ratio", default_text(b.preparation_damping), Double(0, 1),
                     "Normal dashpot (fraction of critical) of the ballast's contacts while the "
                     "sample is built and converted: it damps the rattling of stones");
   prm.declare_entry("deposition friction factor", "auto", Anything(),
                     "Ballast friction factor while the bed is deposited, in [0, 1]; auto: "
                     "calibrated for the target porosity by depositions of a small box");
   std::string factors;
-  for (double f : b.calibration.factors) factors += (factors.empty() ? "" : ", ") + num(f);
+  for (double f : b.calibration.factors) factors += (factors.empty() ? "" : ", ") + default_text(f);
   prm.declare_entry("calibration friction factors", factors, List(Double(0, 1), 2),
                     "Friction factors of the calibration depositions (auto)");
-  prm.declare_entry("tamping load factor", num(b.tamping_load_factor), Double(1, 1e4),
+  prm.declare_entry("tamping load factor", default_text(b.tamping_load_factor), Double(1, 1e4),
                     "The sleeper is pressed into the bed with this many times its weight, then "
                     "seated under its weight (1: no tamping)");
-  prm.declare_entry("stage ratio", num(b.stage_ratio), Double(1e-8, 0.5),
+  prm.declare_entry("stage ratio", default_text(b.stage_ratio), Double(1e-8, 0.5),
                     "Mean unbalanced force ratio ending the intermediate stages");
-  prm.declare_entry("equilibrium ratio", num(b.equilibrium_ratio), Double(1e-8, 0.5),
+  prm.declare_entry("equilibrium ratio", default_text(b.equilibrium_ratio), Double(1e-8, 0.5),
                     "Mean unbalanced force ratio of the finished sample");
-  prm.declare_entry("maximum stage time", num(b.max_stage_time), Double(1e-3, 1e3),
+  prm.declare_entry("maximum stage time", default_text(b.max_stage_time), Double(1e-3, 1e3),
                     "s simulated per stage at most");
   prm.declare_entry("time step", "0", Double(0, 1),
                     "s; 0: critical timestep fraction x the critical step of the loose cloud");
-  prm.declare_entry("critical timestep fraction", num(b.critical_fraction), Double(1e-3, 1),
+  prm.declare_entry("critical timestep fraction", default_text(b.critical_fraction),
+                    Double(1e-3, 1),
                     "Of the loose cloud's critical step (one contact per body: 0.35 anticipates "
                     "about 8 in the packed bed)");
-  prm.declare_entry("verlet skin", num(b.skin), Double(1e-6, 1), "m");
+  prm.declare_entry("verlet skin", default_text(b.skin), Double(1e-6, 1), "m");
   prm.declare_entry("seed", "1", Integer(0), "Seed of the grading draw and the cloud");
   prm.declare_entry("threads", "0", Integer(0, 1024), "OpenMP threads; 0 = OMP_NUM_THREADS");
   prm.leave_subsection();
@@ -121,15 +117,15 @@ void declare(ParameterHandler& prm) {
                     "Bubble-pack setting of the templates: D<distance>R<ratio>");
   prm.declare_entry("mass from", "surface", Selection("surface|pebbles"),
                     "Clump volume and inertia from the stone surface (PFC) or the pebble union");
-  prm.declare_entry("growth time", num(c.growth_time), Double(1e-4, 10),
+  prm.declare_entry("growth time", default_text(c.growth_time), Double(1e-4, 10),
                     "s over which converted clumps grow to full size");
-  prm.declare_entry("growth friction factor", num(c.growth_friction_factor), Double(0, 1),
+  prm.declare_entry("growth friction factor", default_text(c.growth_friction_factor), Double(0, 1),
                     "Ballast friction and rolling factor while the clumps grow");
   prm.declare_entry("orientation trials", std::to_string(c.orientation_trials), Integer(1, 1000),
                     "Random orientations tried per clump; the one that fits largest is kept");
-  prm.declare_entry("equilibrium ratio", num(c.equilibrium_ratio), Double(1e-8, 0.5),
+  prm.declare_entry("equilibrium ratio", default_text(c.equilibrium_ratio), Double(1e-8, 0.5),
                     "Mean unbalanced force ratio of the converted sample");
-  prm.declare_entry("maximum settling time", num(c.max_stage_time), Double(1e-3, 1e3),
+  prm.declare_entry("maximum settling time", default_text(c.max_stage_time), Double(1e-3, 1e3),
                     "s simulated for the final equilibrium at most");
   prm.declare_entry("seed", "1", Integer(0), "Seed of the template choice and orientations");
   prm.leave_subsection();
