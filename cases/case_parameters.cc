@@ -151,6 +151,10 @@ void declare(ParameterHandler& prm) {
                     "push.csv; the run ends with the push ('end time' is not used). Empty: none");
   prm.declare_entry("direction", "x", Selection("x|y|z"), "The pushed DOF");
   prm.declare_entry("distance", "0.005", Double(1e-9, 10), "Push distance, m");
+  prm.declare_entry("path", "", List(Double(-10, 10)),
+                    "Displacements the mesh moves to in turn at the DOF's speed, m along the "
+                    "push (the velocity's sign is +), e.g. '0.004, -0.004, 0': up 4 mm, down to "
+                    "4 mm below the start, back; empty: 'distance' one way");
   prm.declare_entry("minimum hold", "0.02", Double(0, 100), "Time held at least, s");
   prm.declare_entry("maximum hold", "1", Double(0, 100),
                     "Time held at most, s (the push then starts; the summary says so)");
@@ -372,6 +376,14 @@ CaseParameters read_case_file(const std::string& path) {
   c.push.mesh = prm.get("mesh");
   c.push.axis = static_cast<int>(std::string("xyz").find(prm.get("direction")));
   c.push.distance = prm.get_double("distance");
+  c.push.path =
+      dealii::Utilities::string_to_double(dealii::Utilities::split_string_list(prm.get("path")));
+  for (std::size_t k = 0; k < c.push.path.size(); ++k)
+    if (c.push.path[k] == (k == 0 ? 0.0 : c.push.path[k - 1]))
+      throw dem::InputError(path + ": push test/path = " + prm.get("path") + ": point " +
+                            std::to_string(k + 1) +
+                            " repeats the one before it (the start is 0); valid: each point "
+                            "differs from the one before");
   c.push.min_hold = prm.get_double("minimum hold");
   c.push.max_hold = prm.get_double("maximum hold");
   c.push.equilibrium_ratio = prm.get_double("equilibrium ratio");

@@ -515,6 +515,7 @@ void DemRun::write_summary(const std::string& status) {
 void DemRun::make_plot() {
   run_plot_script("plot_history.py", out_);
   if (push_) run_plot_script("plot_push.py", out_, "push-plot.log");
+  run_plot_script("plot_force_chains.py", out_, "force-chains-plot.log");
 }
 
 }  // namespace trackbed::cases

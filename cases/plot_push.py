@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Draws push.png of a push-test results folder: the lateral resistance of the pushed body and its
-shares by mesh part (base, sides, ends) against its displacement. Usage: plot_push.py RESULTS_DIR"""
+"""Draws push.png of a push-test results folder: the resistance of the pushed body (lateral in the
+lateral push test, vertical in the ballast box) and its shares by mesh part (base, sides, ends)
+against its displacement. Usage: plot_push.py RESULTS_DIR"""
 import csv
 import os
 import sys
@@ -20,16 +21,16 @@ def read_push(folder):
 
 
 def running_mean(d, r, window):
-    """r averaged over +-window/2 in displacement d, as trackbed's summary does."""
-    out, lo, hi, total = [], 0, 0, 0.0
-    for x in d:
-        while hi < len(d) and d[hi] <= x + 0.5 * window:
-            total += r[hi]
-            hi += 1
-        while d[lo] < x - 0.5 * window:
-            total -= r[lo]
-            lo += 1
-        out.append(total / (hi - lo))
+    """r averaged over the rows about each row that stay within +-window/2 of its displacement d,
+    contiguous in time (a path passes a displacement more than once), as trackbed's summary does."""
+    out = []
+    for k, x in enumerate(d):
+        first, last = k, k + 1
+        while first > 0 and abs(d[first - 1] - x) <= 0.5 * window:
+            first -= 1
+        while last < len(d) and abs(d[last] - x) <= 0.5 * window:
+            last += 1
+        out.append(sum(r[first:last]) / (last - first))
     return out
 
 
@@ -45,8 +46,8 @@ def main(folder):
         if h.startswith("resistance_") and h.endswith("_n") and h != "resistance_n":
             part = h[len("resistance_"):-2]
             ax.plot(d, [1e-3 * v for v in push[h]], "--", label=part)
-    ax.set_xlabel("lateral displacement (mm)")
-    ax.set_ylabel("lateral resistance (kN)")
+    ax.set_xlabel("displacement along the push (mm)")
+    ax.set_ylabel("resistance against the push (kN)")
     ax.set_title(os.path.basename(os.path.abspath(folder)))
     ax.grid(True, alpha=0.3)
     ax.legend()

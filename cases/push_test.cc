@@ -31,15 +31,22 @@ PushTest::PushTest(PushTestParameters prm, dem::Simulation& sim, const std::stri
   weight_ = it->mass * sim.settings().gravity.norm();
   parts_ = it->local.part_names;
   start_ = it->x[prm_.axis];  // the push DOF does not move during the hold
+  if (prm_.path.empty()) prm_.path = {prm_.distance};
+}
+
+double PushTest::path_length() const {
+  double length = 0, at = 0;
+  for (const double d : prm_.path) length += std::abs(d - at), at = d;
+  return length;
 }
 
 double PushTest::expected_end(const dem::Simulation& sim) const {
   const double start = pushing() ? push_start_ : std::max(sim.time(), prm_.min_hold);
-  return start + prm_.distance / std::abs(velocity_);
+  return start + path_length() / std::abs(velocity_);
 }
 
-bool PushTest::finished(const dem::Simulation& sim) const {
-  return pushing() && sim.time() >= expected_end(sim) - 0.5 * sim.time_step();
+bool PushTest::finished(const dem::Simulation&) const {
+  return leg_ >= prm_.path.size();
 }
 
 void PushTest::control(dem::Simulation& sim) {
@@ -54,7 +61,20 @@ void PushTest::control(dem::Simulation& sim) {
       record(sim);  // the first row of push.csv, at zero displacement
     }
   }
-  sim.meshes()[mesh_].dof[prm_.axis].value = pushing() ? velocity_ : 0.0;
+  double v = 0;
+  if (pushing()) {
+    // Toward the current point at the push speed; the last step of a leg is shortened to land on
+    // the point, so that each leg moves exactly its length.
+    const double speed = std::abs(velocity_), dt = sim.time_step();
+    const double tolerance = 1e-6 * speed * dt;  // far above rounding of the position
+    while (leg_ < prm_.path.size() && std::abs(prm_.path[leg_] - displacement(sim)) <= tolerance)
+      ++leg_;
+    if (leg_ < prm_.path.size()) {
+      const double remaining = prm_.path[leg_] - displacement(sim);
+      v = std::copysign(std::min(speed, std::abs(remaining) / dt), remaining * velocity_);
+    }
+  }
+  sim.meshes()[mesh_].dof[prm_.axis].value = v;
 }
 
 double PushTest::displacement(const dem::Simulation& sim) const {
@@ -113,16 +133,22 @@ double PushTest::interpolated_at(const std::vector<double>& curve, double d) con
   return NAN;
 }
 
+std::pair<std::size_t, std::size_t> PushTest::window(std::size_t k) const {
+  const double d = rows_[k].displacement, h = 0.5 * prm_.smoothing;
+  std::size_t first = k, last = k + 1;
+  while (first > 0 && std::abs(rows_[first - 1].displacement - d) <= h) --first;
+  while (last < rows_.size() && std::abs(rows_[last].displacement - d) <= h) ++last;
+  return {first, last};
+}
+
 std::vector<double> PushTest::smoothed_resistance() const {
   // Running mean over a window of `smoothing` in displacement, centred, shortened at the ends.
   std::vector<double> out(rows_.size());
-  std::size_t lo = 0, hi = 0;
-  double sum = 0;
   for (std::size_t k = 0; k < rows_.size(); ++k) {
-    const double d = rows_[k].displacement, h = 0.5 * prm_.smoothing;
-    while (hi < rows_.size() && rows_[hi].displacement <= d + h) sum += rows_[hi++].resistance;
-    while (rows_[lo].displacement < d - h) sum -= rows_[lo++].resistance;
-    out[k] = sum / double(hi - lo);
+    const auto [first, last] = window(k);
+    double sum = 0;
+    for (std::size_t j = first; j < last; ++j) sum += rows_[j].resistance;
+    out[k] = sum / double(last - first);
   }
   return out;
 }
@@ -147,24 +173,37 @@ std::vector<SummaryItem> PushTest::summary() const {
   // Shares at the peak, from the parts' forces averaged over the same window.
   std::vector<double> part(parts_.size(), 0.0);
   double total = 0;
-  for (const auto& r : rows_)
-    if (std::abs(r.displacement - rows_[peak].displacement) <= 0.5 * prm_.smoothing) {
-      total += r.resistance;
-      for (std::size_t k = 0; k < part.size(); ++k) part[k] += r.part_resistance[k];
-    }
+  const auto [peak_first, peak_last] = window(peak);
+  for (std::size_t j = peak_first; j < peak_last; ++j) {
+    total += rows_[j].resistance;
+    for (std::size_t k = 0; k < part.size(); ++k) part[k] += rows_[j].part_resistance[k];
+  }
   const std::string mm = std::to_string(std::lround(prm_.report_at * 1e3));
+  // A push along x or y meets the bed's lateral resistance; one along z (the ballast box) its
+  // vertical resistance.
+  // vertical: the weight and the bed's own weight enter the load and the balance, which are then
+  // not reported.
+  const bool vertical = prm_.axis == 2;
+  const std::string kind = vertical ? "vertical" : "lateral";
+  bool reverses = false;  // a path that comes back (the ballast box)
+  for (std::size_t k = 1; k < prm_.path.size(); ++k) reverses |= prm_.path[k] < prm_.path[k - 1];
   items = {
       {"hold_time_s", "hold before the push", "s", push_start_},
       {"hold_converged", "hold reached equilibrium (1 yes, 0 no)", "", hold_converged_ ? 1. : 0.},
       {"hold_unbalanced_ratio", "unbalanced force ratio at the push start", "", hold_ratio_},
       {"push_velocity_m_s", "push velocity", "m/s", std::abs(velocity_)},
-      {"push_distance_m", "push distance reached", "m", last.displacement},
-      {"peak_lateral_force_n", "peak lateral force (window mean)", "N", smooth[peak]},
+      {"push_distance_m", "push displacement at the end", "m", last.displacement},
+      {"push_path_m", "push path length", "m", path_length()},
+      {"peak_" + kind + "_force_n", "peak " + kind + " force (window mean)", "N", smooth[peak]},
       {"displacement_at_peak_m", "displacement at the peak", "m", rows_[peak].displacement},
-      {"peak_lateral_force_raw_n", "peak lateral force (single row)", "N", raw->resistance},
-      {"lateral_force_at_" + mm + "mm_n", "lateral force at " + mm + " mm (window mean)", "N",
+      {"peak_" + kind + "_force_raw_n", "peak " + kind + " force (single row)", "N",
+       raw->resistance},
+      {kind + "_force_at_" + mm + "mm_n", kind + " force at " + mm + " mm (window mean)", "N",
        interpolated_at(smooth, prm_.report_at)},
-      {"final_lateral_force_n", "lateral force at the end (window mean)", "N", smooth.back()},
+      {"final_" + kind + "_force_n", kind + " force at the end (window mean)", "N", smooth.back()},
+      {"peak_reverse_" + kind + "_force_n",
+       "peak " + kind + " force against the reverse legs (window mean)", "N",
+       reverses ? -*std::min_element(smooth.begin(), smooth.end()) : NAN},
       {"max_particle_contact_force_end_n", "max particle-particle contact force at the end", "N",
        last.max_particle_force},
       {"max_particle_contact_force_push_n", "max particle-particle contact force in the push", "N",
@@ -174,9 +213,9 @@ std::vector<SummaryItem> PushTest::summary() const {
       {"max_sleeper_contact_force_push_n",
        "max particle-" + prm_.mesh + " contact force in the push", "N", max_body},
       {"mean_vertical_load_over_weight", "mean vertical contact load / weight", "",
-       weight_ > 0 ? load / weight_ : NAN},
+       weight_ > 0 && !vertical ? load / weight_ : NAN},
       {"horizontal_balance_error", "horizontal force balance error (push mean)", "",
-       resistance != 0 ? std::abs(unbalance) / resistance : NAN},
+       resistance != 0 && !vertical ? std::abs(unbalance) / resistance : NAN},
   };
   for (std::size_t k = 0; k < parts_.size(); ++k)
     items.push_back({"share_" + parts_[k], "share of " + parts_[k] + " at the peak", "",

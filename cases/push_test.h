@@ -14,12 +14,16 @@
 // R is reported as its running mean over a window of displacement (default 0.2 mm), since single
 // stones slipping rattle the instantaneous value; push.csv keeps the raw rows.
 //
+// A `path` of displacements instead of one distance makes the body move to each in turn at the
+// same speed (the ballast box test: up, down to compact, back to the start).
+//
 // Outputs: push.csv (one row per history row of the push), summary items, push.png.
 // Theory and definitions: docs/validation.md, "Lateral push test".
 #pragma once
 
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cases/report_support.h"
@@ -31,6 +35,7 @@ struct PushTestParameters {
   std::string mesh;                 // the pushed mesh body; empty: no push test
   int axis = 0;                     // 0 x, 1 y, 2 z
   double distance = 0.005;          // m: the run ends when the body has moved this far
+  std::vector<double> path;         // m: displacements moved to in turn; empty: {distance}
   double min_hold = 0.02;           // s at rest at least before the push
   double max_hold = 1.0;            // s at rest at most
   double equilibrium_ratio = 1e-3;  // mean unbalanced force ratio that ends the hold
@@ -45,7 +50,7 @@ class PushTest {
   PushTest(PushTestParameters prm, dem::Simulation& sim, const std::string& case_file);
 
   // Simulated time at which the test will end: push start (or its earliest time while the body is
-  // held) + distance / |velocity|.
+  // held) + path length / |velocity|.
   double expected_end(const dem::Simulation& sim) const;
   bool finished(const dem::Simulation& sim) const;
   // Before every step: holds the push DOF until equilibrium, then moves it.
@@ -64,8 +69,12 @@ class PushTest {
     double unbalance;  // sum of all wall and body loads along e, N: ~0 for a bed at rest
   };
   double displacement(const dem::Simulation& sim) const;
-  // The resistance averaged over a window of prm_.smoothing in displacement: the curve a
-  // reading at one instant would give is rattled by single stones slipping.
+  double path_length() const;
+  // The rows [first, last) about row k that stay within prm_.smoothing / 2 of its displacement,
+  // contiguous in time (a path passes a displacement more than once).
+  std::pair<std::size_t, std::size_t> window(std::size_t k) const;
+  // The resistance averaged over that window: the curve a reading at one instant would give is
+  // rattled by single stones slipping.
   std::vector<double> smoothed_resistance() const;
   // A curve over the rows interpolated at displacement d (NaN if the push did not get there).
   double interpolated_at(const std::vector<double>& curve, double d) const;
@@ -75,6 +84,7 @@ class PushTest {
   PushTestParameters prm_;
   int mesh_ = 0;
   double velocity_ = 0, start_ = 0, weight_ = 0;
+  std::size_t leg_ = 0;     // index in prm_.path of the displacement being moved to
   double push_start_ = -1;  // s; < 0 while held
   int confirmations_ = 0;
   double hold_ratio_ = NAN;  // unbalanced force ratio when the push started

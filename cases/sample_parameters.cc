@@ -32,6 +32,9 @@ void declare(ParameterHandler& prm) {
                     "m, across the track (x, the push direction)");
   prm.declare_entry("sleeper width", default_text(s.sleeper_width), Double(1e-3, 100),
                     "m, along the track (y)");
+  prm.declare_entry("sleeper bottom width", default_text(s.sleeper_bottom_width), Double(0, 100),
+                    "m along y at the sleeper's bottom, its top being 'sleeper width': a "
+                    "wedge-shaped section (ballast box test); 0: a box");
   prm.declare_entry("sleeper height", default_text(s.sleeper_height), Double(1e-3, 100), "m");
   prm.declare_entry("sleeper mass", default_text(s.sleeper_mass), Double(1e-6, 1e6), "kg");
   prm.declare_entry("depth under sleeper", default_text(s.depth_under_sleeper), Double(1e-3, 100),
@@ -44,6 +47,9 @@ void declare(ParameterHandler& prm) {
                     "m along the track: one sleeper spacing, crib walls at +-length/2");
   prm.declare_entry("boundary", "walls", Selection("walls|periodic"),
                     "Along the track: frictionless crib walls (symmetry planes) or periodic");
+  prm.declare_entry("sides", "slopes", Selection("slopes|walls"),
+                    "Across the track: shoulder slopes, or the side walls of a box at "
+                    "+-(sleeper length / 2 + shoulder width) (needs slope 0)");
   prm.leave_subsection();
 
   prm.enter_subsection("grading");
@@ -193,6 +199,8 @@ SampleParameters read_sample_file(const std::string& path) {
   s.slope = prm.get_double("slope");
   s.length = prm.get_double("length");
   s.periodic = prm.get("boundary") == "periodic";
+  s.side_walls = prm.get("sides") == "walls";
+  s.sleeper_bottom_width = prm.get_double("sleeper bottom width");
   prm.leave_subsection();
   s.validate(path);
 

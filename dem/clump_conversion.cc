@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <sstream>
 
@@ -76,11 +77,10 @@ void ClumpConversion::replace() {
   const Particles& p = base_.particles;
   std::mt19937_64 rng(settings_.seed);
   std::uniform_int_distribution<int> pick(0, static_cast<int>(templates_.size()) - 1);
-  // The sleeper's box as it sits in the base sample.
-  const TriangleMesh& sleeper = base_.meshes.front().world;
-  Vec3 box_lo = sleeper.vertices.front(), box_hi = box_lo;
-  for (const Vec3& v : sleeper.vertices) box_lo = box_lo.cwiseMin(v), box_hi = box_hi.cwiseMax(v);
-  ClumpFitter fitter(p, model_.section(), box_lo, box_hi);
+  // The sleeper as it sits in the base sample: its design shape raised to its seated level.
+  double bottom = std::numeric_limits<double>::infinity();
+  for (const Vec3& v : base_.meshes.front().world.vertices) bottom = std::min(bottom, v.z());
+  ClumpFitter fitter(p, model_.section(), bottom - model_.section().depth_under_sleeper);
   particles_ = Particles();
   double scale_sum = 0;
   for (int b = 0; b < p.num_bodies(); ++b) {

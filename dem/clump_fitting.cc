@@ -5,11 +5,9 @@
 
 namespace trackbed::dem {
 
-ClumpFitter::ClumpFitter(const Particles& p, const TrackSection& section, const Vec3& sleeper_lower,
-                         const Vec3& sleeper_upper)
+ClumpFitter::ClumpFitter(const Particles& p, const TrackSection& section, double sleeper_lift)
     : section_(section),
-      box_lower_(sleeper_lower),
-      box_upper_(sleeper_upper),
+      sleeper_lift_(sleeper_lift),
       cell_(2 * std::max(p.max_element_radius(), 1e-6)) {
   first_of_body_.push_back(0);
   for (int b = 0; b < p.num_bodies(); ++b) {
@@ -67,10 +65,9 @@ double ClumpFitter::clear_of_sphere(const Vec3& x, const SphereShape& pebble,
   return std::min(first, 1.0);
 }
 
-double ClumpFitter::clear_of_box(const Vec3& x, const SphereShape& pebble) const {
+double ClumpFitter::clear_of_sleeper(const Vec3& x, const SphereShape& pebble) const {
   auto gap = [&](double g) {
-    const Vec3 c = x + g * pebble.centre;
-    return (box_lower_ - c).cwiseMax(c - box_upper_).cwiseMax(0.0).norm() - g * pebble.radius;
+    return section_.distance_to_sleeper(x + g * pebble.centre, sleeper_lift_) - g * pebble.radius;
   };
   if (gap(1) >= 0) return 1;
   if (gap(0) <= 0) return 0;
@@ -98,7 +95,14 @@ double ClumpFitter::fit(const Vec3& x, const std::vector<SphereShape>& offsets) 
       if (s.centre.y() - s.radius < 0)
         g = std::min(g, std::max(0.0, half_length + x.y()) / (s.radius - s.centre.y()));
     }
-    g = std::min(g, clear_of_box(x, s));
+    if (section_.side_walls) {
+      const double half_width = section_.half_base_width();
+      if (s.centre.x() + s.radius > 0)
+        g = std::min(g, std::max(0.0, half_width - x.x()) / (s.centre.x() + s.radius));
+      if (s.centre.x() - s.radius < 0)
+        g = std::min(g, std::max(0.0, half_width + x.x()) / (s.radius - s.centre.x()));
+    }
+    g = std::min(g, clear_of_sleeper(x, s));
   }
   for (int i = -n; i <= n; ++i)
     for (int j = -n; j <= n; ++j)

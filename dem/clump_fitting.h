@@ -1,8 +1,9 @@
 // Fitting clumps into a packing without overlaps (docs/samples.md, "Converting balls to clumps"):
 // a clump about to replace a ball may start at the largest scale g <= 1 at which its pebbles,
-// shrunk about its centroid, clear every other body as it stands, the base, the crib walls and
-// the sleeper. The conversion tries several random orientations and keeps the one that fits
-// largest, so the clumps start touching their neighbours and the bed never loses its support.
+// shrunk about its centroid, clear every other body as it stands, the base, the crib walls, a
+// box's side walls and the sleeper. The conversion tries several random orientations and keeps the
+// one that fits largest, so the clumps start touching their neighbours and the bed never loses its
+// support.
 #pragma once
 
 #include <cstdint>
@@ -17,9 +18,9 @@ namespace trackbed::dem {
 class ClumpFitter {
  public:
   // Obstacles: every element of `p`; the section gives the base, the crib walls (unless
-  // periodic) and the sleeper's box `sleeper_lower/upper`.
-  ClumpFitter(const Particles& p, const TrackSection& section, const Vec3& sleeper_lower,
-              const Vec3& sleeper_upper);
+  // periodic), the side walls (a box) and the sleeper, standing `sleeper_lift` above its design
+  // position.
+  ClumpFitter(const Particles& p, const TrackSection& section, double sleeper_lift);
 
   // Removes body b of the particles given at construction (the ball being replaced).
   void remove_body(int b);
@@ -32,12 +33,12 @@ class ClumpFitter {
  private:
   std::int64_t key(const Vec3& x) const;
   void insert(const SphereShape& s, int index);
-  // The largest g with sphere (x + g c, g r) clear of obstacle sphere o, or of the sleeper box.
+  // The largest g with sphere (x + g c, g r) clear of obstacle sphere o, or of the sleeper.
   double clear_of_sphere(const Vec3& x, const SphereShape& pebble, const SphereShape& o) const;
-  double clear_of_box(const Vec3& x, const SphereShape& pebble) const;
+  double clear_of_sleeper(const Vec3& x, const SphereShape& pebble) const;
 
   TrackSection section_;
-  Vec3 box_lower_, box_upper_;
+  double sleeper_lift_;
   double cell_;
   std::vector<SphereShape> spheres_;
   std::vector<char> alive_;

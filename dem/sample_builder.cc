@@ -85,9 +85,9 @@ void SampleBuilder::next_stage(const Particles& particles, const StageWalls& wal
   if (sim_) {
     carried = sim_->contact_state();
     dt = sim_->time_step();
-    // Walls are numbered base, crib walls, mould walls, then meshes: only contacts with walls
-    // that every stage has (base and crib walls) carry over.
-    const int common = settings_.section.periodic ? 1 : 3;
+    // Walls are numbered base, crib walls, side or mould walls, then meshes: only contacts with
+    // the walls that every stage has carry over.
+    const int common = model_.permanent_walls();
     carried.walls.erase(std::remove_if(carried.walls.begin(), carried.walls.end(),
                                        [&](const SavedWallContact& c) { return c.wall >= common; }),
                         carried.walls.end());

@@ -73,7 +73,12 @@ Simulation SectionModel::make(Particles particles, const StageWalls& walls,
     sim.add_plane(plane("crib_front", Vec3(0, -0.5 * s.length, 0), Vec3::UnitY(), 2));
     sim.add_plane(plane("crib_back", Vec3(0, 0.5 * s.length, 0), -Vec3::UnitY(), 2));
   }
-  if (walls.mould) {
+  // A box's side walls stand at every stage; a section's mould walls (at the foot of the slopes)
+  // only while the bed is deposited.
+  if (s.side_walls) {
+    sim.add_plane(plane("side_left", Vec3(-s.half_base_width(), 0, 0), Vec3::UnitX(), 2));
+    sim.add_plane(plane("side_right", Vec3(s.half_base_width(), 0, 0), -Vec3::UnitX(), 2));
+  } else if (walls.mould) {
     sim.add_plane(plane("mould_left", Vec3(-s.half_base_width(), 0, 0), Vec3::UnitX(), 2));
     sim.add_plane(plane("mould_right", Vec3(s.half_base_width(), 0, 0), -Vec3::UnitX(), 2));
   }
@@ -83,8 +88,10 @@ Simulation SectionModel::make(Particles particles, const StageWalls& walls,
       body = *sleeper_body;
     } else {
       const Vec3 lift(0, 0, sleeper_lift(sim.particles(), s));
-      const TriangleMesh box =
-          make_box_mesh(s.sleeper_lower() + lift, s.sleeper_upper() + lift, true);
+      const TriangleMesh box = make_box_mesh(
+          Vec3(s.sleeper_lower().x(), -0.5 * s.sleeper_width, s.depth_under_sleeper) + lift,
+          Vec3(s.sleeper_upper().x(), 0.5 * s.sleeper_width, s.crest_z()) + lift, true,
+          s.bottom_width());
       body = MeshBody::from_world_mesh(kSleeperName, box, 1, 1.0, Vec3::Zero());
       // The box's own inertia distribution, scaled to the sleeper's mass.
       body.inertia *= s.sleeper_mass / body.mass;
@@ -105,6 +112,10 @@ Simulation SectionModel::make(Particles particles, const StageWalls& walls,
     sim.add_mesh_body(std::move(body));
   }
   return sim;
+}
+
+int SectionModel::permanent_walls() const {
+  return 1 + (section_.periodic ? 0 : 2) + (section_.side_walls ? 2 : 0);
 }
 
 bool SectionModel::sleeper_seated(const Simulation& sim) const {
@@ -158,6 +169,8 @@ std::vector<std::pair<std::string, std::string>> SectionModel::info() const {
       {"section/slope", num(s.slope)},
       {"section/length", num(s.length)},
       {"section/boundary", s.periodic ? "periodic" : "walls"},
+      {"section/sides", s.side_walls ? "walls" : "slopes"},
+      {"section/sleeper bottom width", num(s.bottom_width())},
   };
   for (const Material* m : {&materials_.ballast, &materials_.sleeper, &materials_.wall}) {
     const std::string k = "material/" + m->name + "/";
@@ -212,6 +225,10 @@ TrackSection section_of(const Sample& sample) {
   s.slope = info_number(sample, "section/slope");
   s.length = info_number(sample, "section/length");
   s.periodic = sample.info_value("section/boundary") == "periodic";
+  // Optional: samples written before boxes and wedges were a box-shaped sleeper on slopes.
+  s.side_walls = sample.info_value("section/sides") == "walls";
+  if (!sample.info_value("section/sleeper bottom width").empty())
+    s.sleeper_bottom_width = info_number(sample, "section/sleeper bottom width");
   return s;
 }
 
@@ -251,44 +268,55 @@ std::vector<std::pair<std::string, std::string>> grading_info(const SieveTable& 
           {"grading/passing", number_list(grading.passing)}};
 }
 
-namespace {
-
-// Distance from a point to the sleeper's box (0 inside).
-double distance_to_box(const Vec3& x, const Vec3& lo, const Vec3& hi) {
-  return (lo - x).cwiseMax(x - hi).cwiseMax(0.0).norm();
+double sleeper_lift(const Particles& p, const TrackSection& section) {
+  // The bodies centred below the sleeper's bottom that reach into it hold it up: the least lift
+  // that clears them. The others do not count: a wedge wider at its bottom, raised, meets the crib
+  // stones beside its slanted faces, which bodies_in_section removes instead.
+  const double half_length = 0.5 * section.sleeper_length,
+               half_bottom = 0.5 * section.bottom_width();
+  const bool narrower_below = section.bottom_width() < section.sleeper_width;
+  double lift = 0;
+  for (int b = 0; b < p.num_bodies(); ++b) {
+    if (p.x[b].z() >= section.depth_under_sleeper) continue;
+    for (int e = p.first_element[b]; e < p.first_element[b + 1]; ++e) {
+      const Vec3& x = p.pos[e];
+      const double r = p.radius[e];
+      if (section.distance_to_sleeper(x, lift) >= r) continue;
+      // The sphere's top over the bottom face's footprint, which the bottom must clear.
+      const double dx = std::max(std::abs(x.x()) - half_length, 0.0);
+      const double dy = std::max(std::abs(x.y()) - half_bottom, 0.0);
+      const double top = x.z() + std::sqrt(std::max(r * r - dx * dx - dy * dy, 0.0));
+      lift = std::max(lift, top - section.depth_under_sleeper);
+      if (!narrower_below || section.distance_to_sleeper(x, lift) >= r) continue;
+      // A wedge narrower at its bottom may still cut the sphere with a slanted face: bisection,
+      // the clearance of a sphere below the bottom only growing with the lift.
+      double lo = lift, hi = lift + 2 * r;
+      for (int k = 0; k < 50; ++k) {
+        const double mid = 0.5 * (lo + hi);
+        (section.distance_to_sleeper(x, mid) >= r ? hi : lo) = mid;
+      }
+      lift = hi;
+    }
+  }
+  return lift;
 }
 
-}  // namespace
-
 std::vector<char> bodies_in_section(const Particles& p, const TrackSection& section) {
-  const Vec3 lo = section.sleeper_lower(), hi = section.sleeper_upper();
+  const double lift = sleeper_lift(p, section);
   std::vector<char> keep(p.num_bodies(), 0);
   for (int b = 0; b < p.num_bodies(); ++b) {
     const Vec3& c = p.x[b];
     const bool in_prism = c.z() >= 0 && c.z() <= section.crest_z() &&
                           std::abs(c.y()) <= 0.5 * section.length &&
                           std::abs(c.x()) <= section.half_base_width() - section.slope * c.z();
-    bool clear = c.z() < lo.z();
-    for (int e = p.first_element[b]; e < p.first_element[b + 1] && !clear; ++e)
-      clear = distance_to_box(p.pos[e], lo, hi) >= p.radius[e];
-    keep[b] = in_prism && clear;
+    // Clear of the sleeper at its design position and where it is placed, raised by the lift.
+    bool clear = true;
+    for (int e = p.first_element[b]; e < p.first_element[b + 1] && clear; ++e)
+      clear = section.distance_to_sleeper(p.pos[e]) >= p.radius[e] &&
+              section.distance_to_sleeper(p.pos[e], lift) >= p.radius[e];
+    keep[b] = in_prism && (c.z() < section.depth_under_sleeper || clear);
   }
   return keep;
-}
-
-double sleeper_lift(const Particles& p, const TrackSection& section) {
-  const Vec3 lo = section.sleeper_lower(), hi = section.sleeper_upper();
-  double lift = 0;
-  for (int e = 0; e < p.num_elements(); ++e) {
-    const double r = p.radius[e];
-    if (distance_to_box(p.pos[e], lo, hi) >= r) continue;
-    // Horizontal distance to the box's footprint: the sphere's top over the footprint.
-    const double dx = std::max({lo.x() - p.pos[e].x(), p.pos[e].x() - hi.x(), 0.0});
-    const double dy = std::max({lo.y() - p.pos[e].y(), p.pos[e].y() - hi.y(), 0.0});
-    const double top = p.pos[e].z() + std::sqrt(std::max(r * r - dx * dx - dy * dy, 0.0));
-    lift = std::max(lift, top - lo.z());
-  }
-  return lift;
 }
 
 }  // namespace trackbed::dem

@@ -59,6 +59,8 @@ class SectionModel {
   // The sleeper carries the load its servo holds (its weight, or a tamping load) to within 1 %
   // and has stopped (below 1e-4 m/s): the extra condition of a seating stage.
   bool sleeper_seated(const Simulation& sim) const;
+  // Walls every stage has, numbered first: base, crib walls (unless periodic), side walls (a box).
+  int permanent_walls() const;
 
   // The sample of a model's current state: bodies, walls, sleeper and contact springs, with the
   // shapes and sieve sizes of the bodies by id (a body missing from `sieve_size` is refused).
@@ -89,11 +91,12 @@ std::vector<std::pair<std::string, std::string>> grading_info(const SieveTable& 
 // What is kept of a deposited bed when it is trimmed to the section: the bodies whose centre lies
 // in the design profile's trapezoid prism (above the base, at most at the crest, inside the
 // slopes and the section length), except those whose centre is above the sleeper's bottom and
-// that reach into the sleeper's box. Stones under the sleeper that protrude into its box stay:
-// the sleeper is placed on them (sleeper_lift) and seats itself.
+// that reach into the sleeper's solid at its design position or where it is placed (raised by
+// sleeper_lift). Stones under the sleeper that protrude into it stay: the sleeper is placed on
+// them and seats itself.
 std::vector<char> bodies_in_section(const Particles& p, const TrackSection& section);
-// How far above its design position the sleeper must start to clear every element (0 if none
-// reaches into its box).
+// How far above its design position the sleeper must start to clear the bodies centred below its
+// bottom (0 if none reaches into it).
 double sleeper_lift(const Particles& p, const TrackSection& section);
 
 }  // namespace trackbed::dem

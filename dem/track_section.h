@@ -6,7 +6,12 @@
 // z = depth_under_sleeper. The ballast fills, for |y| <= length/2, the trapezoid whose crest
 // (at the top of the sleeper, crest_z) reaches shoulder_width beyond each sleeper end and whose
 // slopes fall 1 : slope (vertical : horizontal) to the base; the crib between sleepers is filled
-// to the crest; the sleeper's own box is not ballast.
+// to the crest; the sleeper's own solid is not ballast.
+//
+// The ballast box test (cases/ballast_box/) is the same bed in a box: side walls at
+// x = +-half_crest_width instead of slopes (slope 0), and a wedge-shaped sleeper section, its
+// cross-section (y, z) a trapezoid sleeper_bottom_width wide at the bottom and sleeper_width at the
+// top.
 #pragma once
 
 #include "dem/types.h"
@@ -21,19 +26,27 @@ struct TrackSection {
   double depth_under_sleeper = 0.35;  // m, ballast between base and sleeper bottom
   double shoulder_width = 0.5;        // m, crest beyond each sleeper end
   double slope = 1.75;                // horizontal per vertical
-  double length = 0.6;    // m, along y (one sleeper spacing; walls or periodic at +-length/2)
-  bool periodic = false;  // along y: periodic boundary instead of crib walls
+  double length = 0.6;      // m, along y (one sleeper spacing; walls or periodic at +-length/2)
+  bool periodic = false;    // along y: periodic boundary instead of crib walls
+  bool side_walls = false;  // a box: vertical walls at x = +-half_crest_width (needs slope 0)
+  double sleeper_bottom_width = 0;  // m, along y at the bottom; 0: sleeper_width (a box)
 
   double crest_z() const { return depth_under_sleeper + sleeper_height; }
   double half_crest_width() const { return 0.5 * sleeper_length + shoulder_width; }
   double half_base_width() const { return half_crest_width() + slope * crest_z(); }
+  double bottom_width() const {
+    return sleeper_bottom_width > 0 ? sleeper_bottom_width : sleeper_width;
+  }
+  // The sleeper's bounding box at its design position.
   Vec3 sleeper_lower() const;
   Vec3 sleeper_upper() const;
+  // Distance from x to the sleeper's solid at its design position raised by `lift` (0 inside).
+  double distance_to_sleeper(const Vec3& x, double lift = 0) const;
   Vec3 sleeper_centre() const { return 0.5 * (sleeper_lower() + sleeper_upper()); }
 
-  // Inside the ballast's design profile (the trapezoid prism without the sleeper's box).
+  // Inside the ballast's design profile (the trapezoid prism without the sleeper).
   bool in_profile(const Vec3& x) const;
-  // Volume of the design profile, m^3: trapezoid area times length minus the sleeper box.
+  // Volume of the design profile, m^3: trapezoid area times length minus the sleeper.
   double profile_volume() const;
   // Throws InputError naming the parameter for a non-physical section.
   void validate(const std::string& where) const;

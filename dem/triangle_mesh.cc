@@ -598,14 +598,18 @@ TriangleMesh read_stl(const std::string& path) {
 
 // ---- box ----------------------------------------------------------------------------------------
 
-TriangleMesh make_box_mesh(const Vec3& lower, const Vec3& upper, bool with_part_names) {
+TriangleMesh make_box_mesh(const Vec3& lower, const Vec3& upper, bool with_part_names,
+                           double bottom_width) {
   if (!(lower.array() < upper.array()).all()) {
     throw InputError("box mesh: the lower corner must be below the upper corner in x, y and z");
   }
+  if (bottom_width < 0) throw InputError("box mesh: the bottom width must be >= 0");
+  const double yc = 0.5 * (lower.y() + upper.y());
+  const double hb = bottom_width > 0 ? 0.5 * bottom_width : 0.5 * (upper.y() - lower.y());
   TriangleMesh mesh;
   for (int i = 0; i < 8; ++i) {  // vertex i has x, y, z from bits 0, 1, 2 of i
-    mesh.vertices.emplace_back(i & 1 ? upper.x() : lower.x(), i & 2 ? upper.y() : lower.y(),
-                               i & 4 ? upper.z() : lower.z());
+    const double y = i & 4 ? (i & 2 ? upper.y() : lower.y()) : (i & 2 ? yc + hb : yc - hb);
+    mesh.vertices.emplace_back(i & 1 ? upper.x() : lower.x(), y, i & 4 ? upper.z() : lower.z());
   }
   // Counter-clockwise seen from outside; parts: 0 base, 1 top, 2 sides, 3 ends.
   mesh.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},

@@ -86,7 +86,10 @@ TriangleMesh read_stl(const std::string& path);
 // An axis-aligned box, 8 vertices and 12 triangles with outward normals. With part names the parts
 // are "base" (z = lower.z), "top" (z = upper.z), "sides" (the two y faces) and "ends" (the two x
 // faces), which fits a sleeper lying along x; otherwise one part "box". Finalized.
-TriangleMesh make_box_mesh(const Vec3& lower, const Vec3& upper, bool with_part_names);
+// bottom_width > 0 narrows (or widens) the base face to that extent in y about the box's centre
+// line, a trapezoidal prism: the wedge-shaped sleeper section of the ballast box test.
+TriangleMesh make_box_mesh(const Vec3& lower, const Vec3& upper, bool with_part_names,
+                           double bottom_width = 0);
 
 // Volume, centroid and inertia tensor about the centroid per unit density of the solid a closed
 // mesh bounds (Eberly, "Polyhedral Mass Properties (Revisited)", 2002: divergence theorem on each

@@ -37,6 +37,31 @@ inline double summary_number(const fs::path& folder, const std::string& key) {
   return m.size() > 1 ? std::stod(m[1]) : NAN;
 }
 
+// Checks FOLDER/summary.json against the stored figures of `model` in a reference CSV (model,
+// quantity, value, relative tolerance; written by tests/cases/reference/update-case-reference).
+inline void check_reference(const std::string& csv, const std::string& model,
+                            const fs::path& folder) {
+  std::ifstream in(csv);
+  ASSERT_TRUE(in) << "reference file missing: " << csv;
+  std::string line;
+  int checked = 0;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#' || line.rfind("model,", 0) == 0) continue;
+    std::stringstream s(line);
+    std::string m, key, value, tol;
+    std::getline(s, m, ',');
+    std::getline(s, key, ',');
+    std::getline(s, value, ',');
+    std::getline(s, tol, ',');
+    if (m != model) continue;
+    const double expected = std::stod(value), rel = std::stod(tol);
+    EXPECT_NEAR(summary_number(folder, key), expected, rel * std::abs(expected))
+        << model << ": " << key;
+    ++checked;
+  }
+  EXPECT_GT(checked, 0) << "no reference figures for " << model << " in " << csv;
+}
+
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -60,6 +85,14 @@ class Cli : public ::testing::Test {
     const int status = std::system(cmd.c_str());
     return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir_ / "stdout"),
             slurp(dir_ / "stderr")};
+  }
+  // Writes a file that includes `included` (a shipped sample or case file) followed by `extra`,
+  // and runs `command` (build-sample or run) on it with one thread into `out`.
+  Result run_including(const std::string& command, const fs::path& included,
+                       const std::string& extra, const fs::path& out) {
+    const fs::path prm =
+        write(included.filename().string(), "include " + included.string() + "\n" + extra);
+    return run(command + " " + prm.string() + " --threads 1 --output " + out.string());
   }
   // A small valid case: 40 balls dropped on a floor, 200 steps. `extra` is appended.
   std::string small_case(const std::string& extra = "", const std::string& particles = "") {

@@ -4,15 +4,14 @@
 // weight, its parts carry its resistance, it moved 5 mm) and against stored reference figures
 // (tests/cases/reference/lateral_push_small.csv), and the five peaks against one another.
 // ctest runs each test alone, in the order its fixtures give (tests/cases/CMakeLists.txt): the
-// samples and runs are kept in TRACKBED_PUSH_WORK for the tests that follow.
-#include <fstream>
+// samples and runs are kept in TRACKBED_STUDY_WORK for the tests that follow.
 #include <map>
 
 #include "cli_fixture.h"
 
 namespace {
 
-const fs::path kWork = TRACKBED_PUSH_WORK;
+const fs::path kWork = TRACKBED_STUDY_WORK;
 const std::string kSource = TRACKBED_SOURCE_DIR;
 
 // model -> sample it runs on
@@ -33,27 +32,23 @@ class LateralPush : public Cli {
   // case that is run, so the included file's base sample and templates are given again).
   void build_zone_sample(const std::string& zone) {
     const std::string name = "small-section-" + zone;
-    const fs::path prm = write(name + ".prm", "include " + kSource + "/cases/samples/" + name +
-                                                  ".prm\nsubsection zone\n  set base sample = " +
-                                                  (sample("small-section") / "sample.h5").string() +
-                                                  "\n  set templates = " + kSource +
-                                                  "/cases/templates/ballast/library.csv"
-                                                  "\nend\nsubsection output\n  set plot = false\n"
-                                                  "  set vtu = false\nend\n");
-    const Result r =
-        run("build-sample " + prm.string() + " --threads 1 --output " + sample(name).string());
+    const Result r = run_including(
+        "build-sample", kSource + "/cases/samples/" + name + ".prm",
+        "subsection zone\n  set base sample = " + (sample("small-section") / "sample.h5").string() +
+            "\n  set templates = " + kSource +
+            "/cases/templates/ballast/library.csv\nend\n"
+            "subsection output\n  set plot = false\n  set vtu = false\nend\n",
+        sample(name));
     ASSERT_EQ(r.code, 0) << r.out << r.err;
   }
 
   // Runs the shipped small case of `model` on the samples of kWork and checks what must hold.
   void push(const std::string& model) {
-    const fs::path prm =
-        write(model + ".prm", "include " + kSource + "/cases/lateral_push/small/" + model +
-                                  ".prm\nsubsection particles\n  set sample file = " +
-                                  (sample(kSampleOf.at(model)) / "sample.h5").string() +
-                                  "\nend\nsubsection output\n  set plot = false\nend\n");
-    const Result r =
-        run("run " + prm.string() + " --threads 1 --output " + results(model).string());
+    const Result r = run_including("run", kSource + "/cases/lateral_push/small/" + model + ".prm",
+                                   "subsection particles\n  set sample file = " +
+                                       (sample(kSampleOf.at(model)) / "sample.h5").string() +
+                                       "\nend\nsubsection output\n  set plot = false\nend\n",
+                                   results(model));
     ASSERT_EQ(r.code, 0) << r.out << r.err;
     const fs::path out = results(model);
     ASSERT_TRUE(fs::exists(out / "push.csv"));
@@ -72,30 +67,7 @@ class LateralPush : public Cli {
     EXPECT_GT(summary_number(out, "share_base"), 0.0);
     EXPECT_GT(summary_number(out, "peak_lateral_force_n"), 0.0);
 
-    check_reference(model, out);
-  }
-
-  // tests/cases/reference/lateral_push_small.csv: model, quantity, value, relative tolerance.
-  void check_reference(const std::string& model, const fs::path& out) {
-    std::ifstream in(kSource + "/tests/cases/reference/lateral_push_small.csv");
-    ASSERT_TRUE(in) << "reference file missing";
-    std::string line;
-    int checked = 0;
-    while (std::getline(in, line)) {
-      if (line.empty() || line[0] == '#' || line.rfind("model,", 0) == 0) continue;
-      std::stringstream s(line);
-      std::string m, key, value, tol;
-      std::getline(s, m, ',');
-      std::getline(s, key, ',');
-      std::getline(s, value, ',');
-      std::getline(s, tol, ',');
-      if (m != model) continue;
-      const double expected = std::stod(value), rel = std::stod(tol);
-      EXPECT_NEAR(summary_number(out, key), expected, rel * std::abs(expected))
-          << model << ": " << key;
-      ++checked;
-    }
-    EXPECT_GT(checked, 0) << "no reference figures for " << model;
+    check_reference(kSource + "/tests/cases/reference/lateral_push_small.csv", model, out);
   }
 };
 

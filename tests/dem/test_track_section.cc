@@ -2,11 +2,13 @@
 // (section_model.h).
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "dem/input_error.h"
 #include "dem/section_model.h"
 #include "dem/track_section.h"
+#include "dem/triangle_mesh.h"
 
 namespace trackbed::dem {
 namespace {
@@ -39,6 +41,59 @@ TEST(TrackSection, ProfileVolumeAgreesWithItsMembership) {
   EXPECT_FALSE(s.in_profile(Vec3(2.7, 0, 0.1)));  // beyond the slope
 }
 
+// The ballast box: side walls instead of slopes, a wedge-shaped sleeper section 0.3 m wide at the
+// bottom and 0.22 m at the top (cases/samples/ballast-box.prm).
+TrackSection wedge_box() {
+  TrackSection s;
+  s.sleeper_length = 0.4;
+  s.sleeper_width = 0.22;
+  s.sleeper_bottom_width = 0.3;
+  s.shoulder_width = 0.15;
+  s.slope = 0;
+  s.side_walls = true;
+  s.depth_under_sleeper = 0.3;
+  s.length = 0.6;
+  return s;
+}
+
+TEST(TrackSection, WedgeDistanceIsTheDistanceToItsFaces) {
+  const TrackSection s = wedge_box();
+  const double z0 = 0.3, z1 = 0.485;
+  EXPECT_DOUBLE_EQ(s.distance_to_sleeper(Vec3(0.1, 0.05, 0.4)), 0);              // inside
+  EXPECT_NEAR(s.distance_to_sleeper(Vec3(0.1, 0.05, 0.25)), 0.05, 1e-15);        // below the base
+  EXPECT_NEAR(s.distance_to_sleeper(Vec3(0.1, 0.05, 0.5), 0.01), 0.005, 1e-15);  // above, lifted
+  EXPECT_NEAR(s.distance_to_sleeper(Vec3(0.3, 0, 0.4)), 0.1, 1e-15);             // beyond the end
+  // Beside a slanted side: the distance to the line through (0.15, z0) and (0.11, z1).
+  const Vec3 x(0, -0.2, 0.4);
+  const double ey = 0.11 - 0.15, ez = z1 - z0;
+  const double expected = std::abs((0.2 - 0.15) * ez - (0.4 - z0) * ey) / std::hypot(ey, ez);
+  EXPECT_NEAR(s.distance_to_sleeper(x), expected, 1e-15);
+  // Beyond a corner: the distance to the bottom edge (y = 0.15, z = z0) and the end (x = 0.2).
+  EXPECT_NEAR(s.distance_to_sleeper(Vec3(0.24, 0.19, 0.26)), std::sqrt(3 * 0.0016), 1e-15);
+}
+
+TEST(TrackSection, WedgeBoxVolumeAgreesWithItsMembershipAndMesh) {
+  const TrackSection s = wedge_box();
+  EXPECT_DOUBLE_EQ(s.half_base_width(), s.half_crest_width());
+  const double sleeper = 0.4 * 0.5 * (0.22 + 0.3) * 0.185;
+  EXPECT_NEAR(s.profile_volume(), 0.7 * 0.6 * 0.485 - sleeper, 1e-15);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> ux(-0.35, 0.35), uy(-0.3, 0.3), uz(0, 0.485);
+  const int n = 1000000;  // relative standard error of the sleeper's share about 3e-3
+  int in_sleeper = 0;
+  for (int k = 0; k < n; ++k) {
+    const Vec3 x(ux(rng), uy(rng), uz(rng));
+    in_sleeper += !s.in_profile(x);
+  }
+  EXPECT_NEAR(0.7 * 0.6 * 0.485 * in_sleeper / n, sleeper, 0.02 * sleeper);
+  // The mesh the sample's sleeper is made of encloses the same trapezoidal prism.
+  const TriangleMesh mesh =
+      make_box_mesh(Vec3(-0.2, -0.11, 0.3), Vec3(0.2, 0.11, 0.485), true, 0.3);
+  ASSERT_TRUE(mesh.is_closed());
+  EXPECT_NEAR(closed_mesh_mass_properties(mesh).volume, sleeper, 1e-15);
+  for (const Vec3& v : mesh.vertices) EXPECT_NEAR(s.distance_to_sleeper(v), 0, 1e-15);
+}
+
 TEST(TrackSection, BadSectionsAreRefused) {
   TrackSection s;
   s.sleeper_width = 0.7;
@@ -51,6 +106,14 @@ TEST(TrackSection, BadSectionsAreRefused) {
   s = TrackSection();
   s.slope = -1;
   EXPECT_THROW(s.validate(""), InputError);
+  s = TrackSection();
+  s.side_walls = true;  // on the default 1:1.75 slopes
+  try {
+    s.validate("box.prm");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("valid: slope 0"), std::string::npos) << e.what();
+  }
 }
 
 TEST(TrackSection, TrimKeepsTheProfileAndClearsTheSleeper) {
