@@ -120,6 +120,11 @@ TEST_F(Cli, BadPushTest) {
                                               "  set mesh = plate\n"
                                               "  set maximum hold = 0.01\n"));
   expect_error(run("run " + c.string()), {"maximum hold = 0.01", "minimum hold"});
+  const fs::path d = write("d.prm", case_with("velocity 0.01",
+                                              "  set mesh = plate\n"
+                                              "  set path = 0.002, 0.002, 0\n"));
+  expect_error(run("run " + d.string()), {"push test/path = 0.002, 0.002, 0", "point 2",
+                                          "each point differs from the one before"});
 }
 
 TEST_F(Cli, GoodRunWritesResultsAndIsReproducible) {
