@@ -394,9 +394,7 @@ int DemRun::run() {
 
 void DemRun::advance() {
   const double dt = sim_->time_step();
-  auto running = [&] {
-    return push_ ? !push_->finished(*sim_) : sim_->step_count() < total_steps_;
-  };
+  auto running = [&] { return push_ ? !push_->finished() : sim_->step_count() < total_steps_; };
   while (running() && g_signal == 0) {
     if (sim_->step_count() == prm_.warmup_steps && prm_.warmup_steps > 0) {
       loop_start_ = Clock::now();

@@ -45,7 +45,7 @@ double PushTest::expected_end(const dem::Simulation& sim) const {
   return start + path_length() / std::abs(velocity_);
 }
 
-bool PushTest::finished(const dem::Simulation&) const {
+bool PushTest::finished() const {
   return leg_ >= prm_.path.size();
 }
 

@@ -52,7 +52,8 @@ class PushTest {
   // Simulated time at which the test will end: push start (or its earliest time while the body is
   // held) + path length / |velocity|.
   double expected_end(const dem::Simulation& sim) const;
-  bool finished(const dem::Simulation& sim) const;
+  // Every leg of the path travelled.
+  bool finished() const;
   // Before every step: holds the push DOF until equilibrium, then moves it.
   void control(dem::Simulation& sim);
   // After a history row: one row of push.csv (during the push only).

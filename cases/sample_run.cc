@@ -160,10 +160,12 @@ void SampleRun::write_grading(const dem::Sample& sample, const dem::Sample* base
 
 void SampleRun::write_history() {
   dem::AtomicFile csv(out_ + "/history/build.csv");
-  csv.stream() << std::setprecision(10) << "stage,time,step,ratio,kinetic_energy,contacts\n";
+  csv.stream() << std::setprecision(10)
+               << "stage,time,step,ratio,kinetic_energy,contacts,sleeper_z,sleeper_load\n";
   for (const auto& h : history_)
     csv.stream() << '"' << h.stage << "\"," << h.time << "," << h.step << "," << h.ratio << ","
-                 << h.kinetic_energy << "," << h.contacts << "\n";
+                 << h.kinetic_energy << "," << h.contacts << "," << h.sleeper_z << ","
+                 << h.sleeper_load << "\n";
   csv.commit();
 }
 

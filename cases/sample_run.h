@@ -4,7 +4,8 @@
 //   base.h5                         the ball sample a conversion started from (if built here)
 //   summary.json, summary.txt       counts, porosity, grading errors, stages, wall time, memory
 //   grading.csv, grading.png        the grading curve: target and sample
-//   history/build.csv               unbalanced force ratio, kinetic energy, contacts per check
+//   history/build.csv               unbalanced force ratio, kinetic energy, contacts, the
+//                                   sleeper's height and load per check
 //   particles.vtu, contacts.vtu, walls.vtu, sample.pvd   ParaView
 //   sample.png                      a cross-section and a plan view drawn from particles.vtu
 #pragma once

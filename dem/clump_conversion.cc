@@ -210,7 +210,7 @@ void ClumpConversion::settle() {
   SettleCriterion c;
   c.max_time = settings_.max_stage_time;
   c.ratio = settings_.equilibrium_ratio;
-  c.also = [this](const Simulation& sim) { return model_.sleeper_seated(sim); };
+  model_.require_seated_sleeper(c);
   report_.stages.push_back(runner_.settle(*sim_, "equilibrium", c));
 }
 

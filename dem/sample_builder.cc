@@ -184,7 +184,7 @@ void SampleBuilder::seat_sleeper() {
   next_stage(particles_, {false, true}, {});
   SettleCriterion c;
   c.max_time = settings_.max_stage_time;
-  c.also = [this](const Simulation& sim) { return model_.sleeper_seated(sim); };
+  model_.require_seated_sleeper(c);
   double& load = sim_->meshes().front().dof[2].value;
   const double weight = load;
   if (settings_.tamping_load_factor > 1) {

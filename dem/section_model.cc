@@ -1,6 +1,7 @@
 #include "dem/section_model.h"
 
 #include <cmath>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
 
@@ -118,13 +119,47 @@ int SectionModel::permanent_walls() const {
   return 1 + (section_.periodic ? 0 : 2) + (section_.side_walls ? 2 : 0);
 }
 
-bool SectionModel::sleeper_seated(const Simulation& sim) const {
-  for (const MeshBody& m : sim.meshes()) {
-    if (m.name != kSleeperName) continue;
-    const double load = -m.dof[2].value;  // what the servo holds: the weight, or a tamping load
-    return std::abs(m.contact_force.z() - load) <= 0.01 * std::abs(load) && m.v.norm() < 1e-4;
-  }
-  return true;
+namespace {
+
+const MeshBody* sleeper_of(const Simulation& sim) {
+  for (const MeshBody& m : sim.meshes())
+    if (m.name == SectionModel::kSleeperName) return &m;
+  return nullptr;
+}
+
+// The sleeper's load and position since the last judgement.
+struct SeatingInterval {
+  double load_sum = 0;
+  long steps = 0;
+  Vec3 start = Vec3::Constant(NAN);
+  double start_time = NAN;
+};
+
+}  // namespace
+
+void SectionModel::require_seated_sleeper(SettleCriterion& c, double max_speed) const {
+  auto interval = std::make_shared<SeatingInterval>();
+  c.each_step = [interval](const Simulation& sim) {
+    const MeshBody* m = sleeper_of(sim);
+    if (!m) return;
+    if (std::isnan(interval->start_time)) {
+      interval->start = m->x;
+      interval->start_time = sim.time();
+    }
+    interval->load_sum += m->contact_force.z();
+    ++interval->steps;
+  };
+  c.also = [interval, max_speed](const Simulation& sim) {
+    const MeshBody* m = sleeper_of(sim);
+    if (!m) return true;
+    const SeatingInterval i = *interval;
+    *interval = SeatingInterval{};
+    if (i.steps < 2) return false;
+    const double held = -m->dof[2].value;  // what the servo holds: the weight, or a tamping load
+    const double mean_load = i.load_sum / i.steps;
+    const double mean_speed = (m->x - i.start).norm() / (sim.time() - i.start_time);
+    return std::abs(mean_load - held) <= 0.01 * std::abs(held) && mean_speed < max_speed;
+  };
 }
 
 Sample SectionModel::to_sample(const Simulation& sim,

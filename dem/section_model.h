@@ -12,6 +12,7 @@
 #include "dem/grading.h"
 #include "dem/material.h"
 #include "dem/sample.h"
+#include "dem/settling.h"
 #include "dem/simulation.h"
 #include "dem/track_section.h"
 
@@ -56,9 +57,12 @@ class SectionModel {
   // servo holding its weight (PFC's servo, automatic gain), every other DOF fixed.
   Simulation make(Particles particles, const StageWalls& walls, const StageMaterials& stage = {},
                   const std::optional<MeshBody>& sleeper_body = std::nullopt) const;
-  // The sleeper carries the load its servo holds (its weight, or a tamping load) to within 1 %
-  // and has stopped (below 1e-4 m/s): the extra condition of a seating stage.
-  bool sleeper_seated(const Simulation& sim) const;
+  // Makes `c` require the sleeper seated, the extra condition of a seating stage: over each
+  // check interval its mean load is within 1 % of what its servo holds (its weight, or a
+  // tamping load) and its mean speed is below `max_speed`. Means over the interval, not the
+  // values at the check: the servo's speed follows the load error of each step, which the
+  // contacts of a settling bed scatter from step to step (docs/samples.md, "Equilibrium").
+  void require_seated_sleeper(SettleCriterion& c, double max_speed = 1e-4) const;
   // Walls every stage has, numbered first: base, crib walls (unless periodic), side walls (a box).
   int permanent_walls() const;
 

@@ -33,7 +33,11 @@ void StageRunner::check(const Simulation& sim, const std::string& stage, long st
                         Clock::time_point start, double max_time) {
   const double t = steps * sim.time_step();
   const double ke = sim.particles().kinetic_energy();
-  if (on_sample) on_sample({stage, t, steps, ratio, ke, sim.num_contacts()});
+  const bool sleeper = !sim.meshes().empty();
+  if (on_sample)
+    on_sample({stage, t, steps, ratio, ke, sim.num_contacts(),
+               sleeper ? sim.meshes().front().x.z() : NAN,
+               sleeper ? sim.meshes().front().contact_force.z() : NAN});
   if (!on_progress || seconds_since(last_progress_) < progress_seconds) return;
   last_progress_ = Clock::now();
   const double wall = seconds_since(start);
@@ -57,7 +61,10 @@ StageReport StageRunner::settle(Simulation& sim, const std::string& stage,
   int below = 0;
   double ratio = NAN;
   while (steps < max_steps) {
-    for (int k = 0; k < c.check_interval && steps < max_steps; ++k, ++steps) sim.step();
+    for (int k = 0; k < c.check_interval && steps < max_steps; ++k, ++steps) {
+      sim.step();
+      if (c.each_step) c.each_step(sim);
+    }
     sim.check_finite();
     ratio = sim.unbalanced_force_ratio();
     check(sim, stage, steps, ratio, start, c.max_time);

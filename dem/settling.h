@@ -22,8 +22,10 @@ struct SettleCriterion {
   double min_time = 0;       // s simulated before the ratio is looked at
   double max_time = 5;       // s simulated at most
   int check_interval = 500;  // steps
-  // Further condition checked with the ratio (empty: none).
+  // Further condition checked with the ratio (empty: none), and what it records after every
+  // step (empty: nothing), e.g. the means it judges over the check interval.
   std::function<bool(const Simulation&)> also;
+  std::function<void(const Simulation&)> each_step;
 };
 
 struct StageReport {
@@ -44,6 +46,9 @@ struct SettleSample {
   long step;
   double ratio, kinetic_energy;
   int contacts;
+  // The first mesh body (a section's sleeper): its height and the vertical force of its
+  // contacts; NaN without one.
+  double sleeper_z, sleeper_load;
 };
 
 class StageRunner {

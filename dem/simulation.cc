@@ -688,16 +688,33 @@ void Simulation::apply_body_loads_and_integrate() {
 }
 
 void Simulation::move_walls() {
+  // Work of a wall on the particles: minus the particles' force on it times its motion, by the
+  // trapezoidal rule, each step's motion d_n with the mean force at its ends (F_n + F_n+1)/2,
+  // exact for linear springs (docs/theory.md, "Energy budget"). The rectangle rule F_n . d_n
+  // misses k d_n^2 / 2 every step, with the same sign whichever way the wall moves, so a wall
+  // that jitters (a servo) piles it up. The step's first half is added now and the second half
+  // with the next step's forces; energy() counts the first half twice meanwhile.
   const double dt = settings_.time_step;
-  for (auto& w : planes_) {
-    // Work of the wall on the particles: minus the particles' force on it times its motion.
-    tally_.wall_work -= w.force.dot(w.velocity) * dt;
+  last_wall_motion_.resize(planes_.size() + meshes_.size(), {Vec3::Zero(), Vec3::Zero()});
+  last_wall_half_work_ = 0;
+  auto tally = [&](std::size_t k, const Vec3& force, const Vec3& moment, const Vec3& move,
+                   const Vec3& turn) {
+    const auto& [last_move, last_turn] = last_wall_motion_[k];
+    const double half = -0.5 * (force.dot(move) + moment.dot(turn));
+    tally_.wall_work += -0.5 * (force.dot(last_move) + moment.dot(last_turn)) + half;
+    last_wall_half_work_ += half;
+    last_wall_motion_[k] = {move, turn};
+  };
+  for (std::size_t k = 0; k < planes_.size(); ++k) {
+    PlaneWall& w = planes_[k];
+    tally(k, w.force, Vec3::Zero(), w.velocity * dt, Vec3::Zero());
     w.point += w.velocity * dt;
   }
-  for (auto& m : meshes_) {
+  for (std::size_t k = 0; k < meshes_.size(); ++k) {
+    MeshBody& m = meshes_[k];
     const Vec3 x0 = m.x;
     m.integrate(dt, settings_.gravity);
-    tally_.wall_work -= m.contact_force.dot(m.x - x0) + m.contact_moment.dot(m.w) * dt;
+    tally(planes_.size() + k, m.contact_force, m.contact_moment, m.x - x0, m.w * dt);
   }
 }
 
@@ -771,6 +788,7 @@ double Simulation::critical_timestep() const {
 
 EnergyBudget Simulation::energy() const {
   EnergyBudget e = tally_;
+  e.wall_work += last_wall_half_work_;
   e.kinetic = p_.kinetic_energy();
   double strain = 0;
   const PairHistory& h = *pair_history_;

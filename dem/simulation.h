@@ -180,6 +180,11 @@ class Simulation {
   bool ready_ = false;
   bool parallel_ = true;  // OpenMP team for this model (see parallel_threshold)
   EnergyBudget tally_;    // dissipation and work terms accumulated so far
+  // Each wall's (planes, then meshes) displacement and rotation of the last step, whose work
+  // move_walls completes with the next step's forces; and that step's first half of the work,
+  // which energy() counts twice until then (move_walls).
+  std::vector<std::pair<Vec3, Vec3>> last_wall_motion_;
+  double last_wall_half_work_ = 0;
 };
 
 }  // namespace trackbed::dem

@@ -5,17 +5,11 @@ Usage: compare.py RESULTS_DIR   (results/ballast_box or results/ballast_box/smal
 Reads RESULTS_DIR/<model>/push.csv and summary.json for the models that have run; writes
 RESULTS_DIR/comparison.png (the wedge's resistance against its displacement over the path),
 comparison.json and comparison.md (contacts and largest contact forces beside Table 1)."""
-import json
 import os
 import sys
 
-import matplotlib
-
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-from plot_push import read_push, running_mean  # noqa: E402
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import study_comparison as sc  # noqa: E402
 
 # model folder, label, the paper's total contacts, max particle-particle and particle-sleeper
 # contact force (kN), at the end of the test
@@ -27,36 +21,16 @@ PAPER = [
 
 
 def main(results):
-    models = []
-    for key, label, contacts, fpp, fps in PAPER:
-        folder = os.path.join(results, key)
-        if not os.path.exists(os.path.join(folder, "summary.json")):
-            continue
-        with open(os.path.join(folder, "summary.json")) as f:
-            s = json.load(f)
-        models.append(dict(key=key, label=label, paper=(contacts, fpp, fps), summary=s,
-                           push=read_push(folder)))
-    if not models:
-        sys.exit("compare.py: no model results under " + results)
-
-    fig, ax = plt.subplots(figsize=(8, 5))
-    for m in models:
-        d, r = m["push"]["displacement_m"], m["push"]["resistance_n"]
-        ax.plot([1e3 * x for x in d], [1e-3 * v for v in running_mean(d, r, 0.0002)],
-                label=m["label"])
-    ax.set_xlabel("vertical displacement of the wedge (mm): up, down to compact, back")
-    ax.set_ylabel("resistance against its motion (kN), 0.2 mm running mean")
-    ax.set_title("Ballast box test, three shapes (positive: against lifting)", fontsize=10)
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(os.path.join(results, "comparison.png"), dpi=130)
-
+    runs = sc.load_runs(results, [p[0] for p in PAPER])
+    fig, ax = sc.curves_axes()
     table = []
-    for m in models:
-        s = m["summary"]
+    for key, label, contacts, fpp, fps in PAPER:
+        if key not in runs:
+            continue
+        sc.plot_curve(ax, runs[key]["push"], label)
+        s = runs[key]["summary"]
         table.append(dict(
-            model=m["key"], elements=s["elements"], bodies=s["bodies"], contacts=s["contacts"],
+            model=key, elements=s["elements"], bodies=s["bodies"], contacts=s["contacts"],
             steps=s["steps"], time_step_s=s["time_step_s"], wall_time_s=s["wall_time_s"],
             max_particle_force_end_kn=s["max_particle_contact_force_end_n"] / 1e3,
             max_sleeper_force_end_kn=s["max_sleeper_contact_force_end_n"] / 1e3,
@@ -64,25 +38,28 @@ def main(results):
             max_sleeper_force_test_kn=s["max_sleeper_contact_force_push_n"] / 1e3,
             peak_lift_kn=s["peak_vertical_force_n"] / 1e3,
             peak_compaction_kn=s["peak_reverse_vertical_force_n"] / 1e3,
-            paper_contacts=m["paper"][0], paper_max_particle_force_kn=m["paper"][1],
-            paper_max_sleeper_force_kn=m["paper"][2]))
-    with open(os.path.join(results, "comparison.json"), "w") as f:
-        json.dump(table, f, indent=2)
-
-    lines = ["| shape | elements | contacts at the end (paper) | max particle-particle kN: end, "
-             "test (paper) | max particle-sleeper kN: end, test (paper) | peak lift / compaction "
-             "kN | wall time s |", "|" + "---|" * 7]
-    for row in table:
-        lines.append("| %s | %d | %d (%d) | %.3f, %.3f (%.1f) | %.3f, %.3f (%.1f) | %.3f / %.3f "
-                     "| %.0f |" % (
-                         row["model"], row["elements"], row["contacts"], row["paper_contacts"],
-                         row["max_particle_force_end_kn"], row["max_particle_force_test_kn"],
-                         row["paper_max_particle_force_kn"], row["max_sleeper_force_end_kn"],
-                         row["max_sleeper_force_test_kn"], row["paper_max_sleeper_force_kn"],
-                         row["peak_lift_kn"], row["peak_compaction_kn"], row["wall_time_s"]))
-    with open(os.path.join(results, "comparison.md"), "w") as f:
-        f.write("\n".join(lines) + "\n")
-    print("\n".join(lines))
+            paper_contacts=contacts, paper_max_particle_force_kn=fpp,
+            paper_max_sleeper_force_kn=fps))
+    sc.save_curves(fig, ax, results,
+                   "vertical displacement of the wedge (mm): up, down to compact, back",
+                   "resistance against its motion",
+                   "Ballast box test, three shapes (positive: against lifting)")
+    sc.write_table(
+        results, table,
+        ["shape", "elements", "contacts at the end (paper)",
+         "max particle-particle kN: end, test (paper)",
+         "max particle-sleeper kN: end, test (paper)", "peak lift / compaction kN",
+         "wall time s"],
+        lambda r: [r["model"], "%d" % r["elements"],
+                   "%d (%d)" % (r["contacts"], r["paper_contacts"]),
+                   "%.3f, %.3f (%.1f)" % (r["max_particle_force_end_kn"],
+                                          r["max_particle_force_test_kn"],
+                                          r["paper_max_particle_force_kn"]),
+                   "%.3f, %.3f (%.1f)" % (r["max_sleeper_force_end_kn"],
+                                          r["max_sleeper_force_test_kn"],
+                                          r["paper_max_sleeper_force_kn"]),
+                   "%.3f / %.3f" % (r["peak_lift_kn"], r["peak_compaction_kn"]),
+                   "%.0f" % r["wall_time_s"]])
 
 
 if __name__ == "__main__":

@@ -1,59 +1,24 @@
-// The scaled-down lateral push (cases/lateral_push/small/) of the five models as a user runs it:
-// the samples built by build-sample from the shipped sample files, the five shipped cases run on
-// them, each summary checked against the physics that holds at any size (the sleeper carries its
-// weight, its parts carry its resistance, it moved 5 mm) and against stored reference figures
-// (tests/cases/reference/lateral_push_small.csv), and the five peaks against one another.
-// ctest runs each test alone, in the order its fixtures give (tests/cases/CMakeLists.txt): the
-// samples and runs are kept in TRACKBED_STUDY_WORK for the tests that follow.
-#include <map>
-
-#include "cli_fixture.h"
+// The scaled-down lateral push (cases/lateral_push/small/) of the five models as a user runs it
+// (study_fixture.h): each summary checked against the physics that holds at any size (the sleeper
+// carries its weight, its parts carry its resistance, it moved 5 mm) and against stored reference
+// figures (tests/cases/reference/lateral_push_small.csv), and the five peaks against one another.
+#include "study_fixture.h"
 
 namespace {
 
-const fs::path kWork = TRACKBED_STUDY_WORK;
-const std::string kSource = TRACKBED_SOURCE_DIR;
-
-// model -> sample it runs on
-const std::map<std::string, std::string> kSampleOf = {
-    {"all-clump", "small-section-all-clump"},
-    {"half-by-height", "small-section-half-by-height"},
-    {"optimised", "small-section-optimised"},
-    {"all-ball-rolling", "small-section"},
-    {"all-ball", "small-section"},
-};
-
-class LateralPush : public Cli {
+class LateralPush : public Study {
  protected:
-  fs::path sample(const std::string& name) { return kWork / "samples" / name; }
-  fs::path results(const std::string& model) { return kWork / "runs" / model; }
+  LateralPush()
+      : Study("lateral_push", "small-section",
+              {{"all-clump", "small-section-all-clump"},
+               {"half-by-height", "small-section-half-by-height"},
+               {"optimised", "small-section-optimised"},
+               {"all-ball-rolling", "small-section"},
+               {"all-ball", "small-section"}}) {}
 
-  // The shipped zone sample file on the ball sample of kWork (file values are relative to the
-  // case that is run, so the included file's base sample and templates are given again).
-  void build_zone_sample(const std::string& zone) {
-    const std::string name = "small-section-" + zone;
-    const Result r = run_including(
-        "build-sample", kSource + "/cases/samples/" + name + ".prm",
-        "subsection zone\n  set base sample = " + (sample("small-section") / "sample.h5").string() +
-            "\n  set templates = " + kSource +
-            "/cases/templates/ballast/library.csv\nend\n"
-            "subsection output\n  set plot = false\n  set vtu = false\nend\n",
-        sample(name));
-    ASSERT_EQ(r.code, 0) << r.out << r.err;
-  }
-
-  // Runs the shipped small case of `model` on the samples of kWork and checks what must hold.
+  // Runs the shipped small case of `model` and checks what must hold.
   void push(const std::string& model) {
-    const Result r = run_including("run", kSource + "/cases/lateral_push/small/" + model + ".prm",
-                                   "subsection particles\n  set sample file = " +
-                                       (sample(kSampleOf.at(model)) / "sample.h5").string() +
-                                       "\nend\nsubsection output\n  set plot = false\nend\n",
-                                   results(model));
-    ASSERT_EQ(r.code, 0) << r.out << r.err;
-    const fs::path out = results(model);
-    ASSERT_TRUE(fs::exists(out / "push.csv"));
-    EXPECT_NE(slurp(out / "summary.json").find("\"status\": \"finished\""), std::string::npos);
-
+    const fs::path out = run_model(model);
     // The sleeper moved the full 5 mm (to within a step's travel, v dt = 6e-8 m).
     EXPECT_NEAR(summary_number(out, "push_distance_m"), 0.005, 1e-6);
     // The sleeper, free vertically, carried its weight: over the push the mean vertical contact
@@ -66,26 +31,21 @@ class LateralPush : public Cli {
     EXPECT_NEAR(shares, 1.0, 1e-9);
     EXPECT_GT(summary_number(out, "share_base"), 0.0);
     EXPECT_GT(summary_number(out, "peak_lateral_force_n"), 0.0);
-
-    check_reference(kSource + "/tests/cases/reference/lateral_push_small.csv", model, out);
+    check_reference_of(model);
   }
 };
 
 TEST_F(LateralPush, BallSample) {
-  const Result r = run("build-sample " + kSource +
-                       "/cases/samples/small-section.prm --threads 1 "
-                       "--output " +
-                       sample("small-section").string());
-  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  build_base_sample();
 }
 TEST_F(LateralPush, AllClumpSample) {
-  build_zone_sample("all-clump");
+  build_converted_sample("small-section-all-clump");
 }
 TEST_F(LateralPush, OptimisedSample) {
-  build_zone_sample("optimised");
+  build_converted_sample("small-section-optimised");
 }
 TEST_F(LateralPush, HalfByHeightSample) {
-  build_zone_sample("half-by-height");
+  build_converted_sample("small-section-half-by-height");
 }
 
 TEST_F(LateralPush, AllClump) {
@@ -112,7 +72,7 @@ TEST_F(LateralPush, AllBall) {
 // sleeper (80 mm x 0.4) is one stone thick.
 TEST_F(LateralPush, FiveModelsPeaks) {
   std::map<std::string, double> peak, cost;
-  for (const auto& [model, unused] : kSampleOf) {
+  for (const auto& [model, unused] : sample_of()) {
     peak[model] = summary_number(results(model), "peak_lateral_force_n");
     cost[model] =
         summary_number(results(model), "elements") * summary_number(results(model), "steps");

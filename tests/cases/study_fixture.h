@@ -1,0 +1,69 @@
+// The fixture of the tests that run one of the paper's studies at small scale as a user runs it
+// (cases/<study>/small/): the samples built by build-sample from the shipped sample files into
+// TRACKBED_STUDY_WORK/samples, the shipped cases run on them into TRACKBED_STUDY_WORK/runs, and
+// each run's summary checked against the study's stored reference figures.
+// ctest runs each test alone, in the order its fixtures give (tests/cases/CMakeLists.txt): the
+// samples and runs are kept for the tests that follow.
+#pragma once
+
+#include <map>
+#include <string>
+#include <utility>
+
+#include "cli_fixture.h"
+
+class Study : public Cli {
+ protected:
+  // `study`: the folder in cases/ (and the reference tests/cases/reference/<study>_small.csv);
+  // `base`: the ball sample file in cases/samples/ the others convert; `sample_of`: the sample
+  // each model of the study runs on.
+  Study(std::string study, std::string base, std::map<std::string, std::string> sample_of)
+      : study_(std::move(study)), base_(std::move(base)), sample_of_(std::move(sample_of)) {}
+
+  const std::map<std::string, std::string>& sample_of() const { return sample_of_; }
+  fs::path sample(const std::string& name) const { return work_ / "samples" / name; }
+  fs::path results(const std::string& model) const { return work_ / "runs" / model; }
+
+  void build_base_sample() {
+    const Result r = run("build-sample " + source_ + "/cases/samples/" + base_ +
+                         ".prm --threads 1 --output " + sample(base_).string());
+    ASSERT_EQ(r.code, 0) << r.out << r.err;
+  }
+  // The shipped sample file `name` on the base sample of the work folder (file values are
+  // relative to the case that is run, so the included file's base sample and templates are
+  // given again).
+  void build_converted_sample(const std::string& name) {
+    const Result r = run_including(
+        "build-sample", source_ + "/cases/samples/" + name + ".prm",
+        "subsection zone\n  set base sample = " + (sample(base_) / "sample.h5").string() +
+            "\n  set templates = " + source_ +
+            "/cases/templates/ballast/library.csv\nend\n"
+            "subsection output\n  set plot = false\n  set vtu = false\nend\n",
+        sample(name));
+    ASSERT_EQ(r.code, 0) << r.out << r.err;
+  }
+  // Runs the shipped small case of `model` on its sample, checks that it finished and returns its
+  // results folder (checks that need it come after, then check_reference_of(model)).
+  fs::path run_model(const std::string& model) {
+    const Result r = run_including("run", source_ + "/cases/" + study_ + "/small/" + model + ".prm",
+                                   "subsection particles\n  set sample file = " +
+                                       (sample(sample_of_.at(model)) / "sample.h5").string() +
+                                       "\nend\nsubsection output\n  set plot = false\nend\n",
+                                   results(model));
+    EXPECT_EQ(r.code, 0) << r.out << r.err;
+    const fs::path out = results(model);
+    EXPECT_TRUE(fs::exists(out / "push.csv"));
+    EXPECT_NE(slurp(out / "summary.json").find("\"status\": \"finished\""), std::string::npos);
+    return out;
+  }
+  void check_reference_of(const std::string& model) {
+    check_reference(source_ + "/tests/cases/reference/" + study_ + "_small.csv", model,
+                    results(model));
+  }
+
+ private:
+  const fs::path work_ = TRACKBED_STUDY_WORK;
+  const std::string source_ = TRACKBED_SOURCE_DIR;
+  std::string study_, base_;
+  std::map<std::string, std::string> sample_of_;
+};
