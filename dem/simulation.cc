@@ -693,16 +693,13 @@ void Simulation::move_walls() {
   // exact for linear springs (docs/theory.md, "Energy budget"). The rectangle rule F_n . d_n
   // misses k d_n^2 / 2 every step, with the same sign whichever way the wall moves, so a wall
   // that jitters (a servo) piles it up. The step's first half is added now and the second half
-  // with the next step's forces; energy() counts the first half twice meanwhile.
+  // with the next step's forces (closing_wall_work).
   const double dt = settings_.time_step;
+  tally_.wall_work += closing_wall_work();
   last_wall_motion_.resize(planes_.size() + meshes_.size(), {Vec3::Zero(), Vec3::Zero()});
-  last_wall_half_work_ = 0;
   auto tally = [&](std::size_t k, const Vec3& force, const Vec3& moment, const Vec3& move,
                    const Vec3& turn) {
-    const auto& [last_move, last_turn] = last_wall_motion_[k];
-    const double half = -0.5 * (force.dot(move) + moment.dot(turn));
-    tally_.wall_work += -0.5 * (force.dot(last_move) + moment.dot(last_turn)) + half;
-    last_wall_half_work_ += half;
+    tally_.wall_work -= 0.5 * (force.dot(move) + moment.dot(turn));
     last_wall_motion_[k] = {move, turn};
   };
   for (std::size_t k = 0; k < planes_.size(); ++k) {
@@ -786,9 +783,25 @@ double Simulation::critical_timestep() const {
   return dt;
 }
 
+double Simulation::closing_wall_work() const {
+  double work = 0;
+  for (std::size_t k = 0; k < last_wall_motion_.size(); ++k) {
+    const auto& [move, turn] = last_wall_motion_[k];
+    if (k < planes_.size())
+      work -= 0.5 * planes_[k].force.dot(move);
+    else {
+      const MeshBody& m = meshes_[k - planes_.size()];
+      work -= 0.5 * (m.contact_force.dot(move) + m.contact_moment.dot(turn));
+    }
+  }
+  return work;
+}
+
 EnergyBudget Simulation::energy() const {
   EnergyBudget e = tally_;
-  e.wall_work += last_wall_half_work_;
+  // The last step's motion, its second half with the forces at its start standing in for those
+  // at its end (not computed before the next step).
+  e.wall_work += closing_wall_work();
   e.kinetic = p_.kinetic_energy();
   double strain = 0;
   const PairHistory& h = *pair_history_;

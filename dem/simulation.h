@@ -148,6 +148,9 @@ class Simulation {
   void reduce_thread_forces();
   void apply_body_loads_and_integrate();
   void move_walls();
+  // The second half of the work of the walls' last motion with their current loads, -(F . d +
+  // M . theta) / 2 summed over the walls (move_walls, trapezoidal rule).
+  double closing_wall_work() const;
   bool needs_rebuild() const;
   void rebuild();
   void check_initial_overlaps() const;
@@ -181,10 +184,8 @@ class Simulation {
   bool parallel_ = true;  // OpenMP team for this model (see parallel_threshold)
   EnergyBudget tally_;    // dissipation and work terms accumulated so far
   // Each wall's (planes, then meshes) displacement and rotation of the last step, whose work
-  // move_walls completes with the next step's forces; and that step's first half of the work,
-  // which energy() counts twice until then (move_walls).
+  // move_walls completes with the next step's forces.
   std::vector<std::pair<Vec3, Vec3>> last_wall_motion_;
-  double last_wall_half_work_ = 0;
 };
 
 }  // namespace trackbed::dem
