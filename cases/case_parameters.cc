@@ -4,7 +4,9 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <iterator>
 #include <sstream>
 
 #include "cases/prm_support.h"
@@ -175,10 +177,56 @@ void declare(ParameterHandler& prm) {
                     "s between ParaView frames; 0 = only the first and last frames");
   prm.declare_entry("snapshot interval", "0", Double(0), "s between HDF5 snapshots; 0 = last");
   prm.declare_entry("progress interval", "2", Double(0), "Wall seconds between progress lines");
+  prm.declare_entry("checkpoint interval", "600", Double(0),
+                    "Wall seconds between checkpoints (checkpoint.h5, for 'trackbed resume'); "
+                    "one is also written when the run is interrupted; 0 = none");
   prm.declare_entry("tracked bodies", "", List(Integer(0)),
                     "Body ids (rows of the particle file) whose history is written");
   prm.declare_entry("plot", "true", Bool(), "Write a PNG plot of the histories (matplotlib)");
   prm.leave_subsection();
+}
+
+// Every parameter's value as read, one "subsection/name = value" line each, except those that do
+// not change what a run computes (where it writes, how often it reports or checkpoints, its
+// threads: a resumed run may set them anew).
+std::string fingerprint(const ParameterHandler& prm) {
+  std::ostringstream printed;
+  prm.print_parameters(printed, ParameterHandler::ShortPRM);
+  std::istringstream in(printed.str());
+  std::vector<std::string> path;
+  std::string line, out;
+  while (std::getline(in, line)) {
+    std::istringstream words(line);
+    std::string word;
+    words >> word;
+    if (word == "subsection") {
+      std::string name;
+      std::getline(words >> std::ws, name);
+      path.push_back(name);
+    } else if (word == "end" && !path.empty()) {
+      path.pop_back();
+    } else if (word == "set") {
+      std::string entry;
+      std::getline(words >> std::ws, entry);
+      entry = entry.substr(0, entry.find('#'));  // a "# default: ..." note
+      auto trim = [](std::string t) {
+        t.erase(0, t.find_first_not_of(" \t"));
+        t.erase(t.find_last_not_of(" \t") + 1);
+        return t;
+      };
+      const std::size_t eq = entry.find('=');
+      std::string key;
+      for (const auto& p : path) key += p + "/";
+      key += trim(entry.substr(0, eq));
+      static const char* const kIgnored[] = {"simulation/threads", "output/folder",
+                                             "output/progress interval",
+                                             "output/checkpoint interval"};
+      if (std::find(std::begin(kIgnored), std::end(kIgnored), key) != std::end(kIgnored)) continue;
+      const std::string value = eq == std::string::npos ? "" : trim(entry.substr(eq + 1));
+      out += key + " = " + value + "\n";
+    }
+  }
+  return out;
 }
 
 // "servo -3728 gain 1e-6 max 0.01" and friends.
@@ -401,10 +449,12 @@ CaseParameters read_case_file(const std::string& path) {
   c.vtu_interval = prm.get_double("vtu interval");
   c.snapshot_interval = prm.get_double("snapshot interval");
   c.progress_interval = prm.get_double("progress interval");
+  c.checkpoint_interval = prm.get_double("checkpoint interval");
   for (const auto& s : dealii::Utilities::split_string_list(prm.get("tracked bodies")))
     c.tracked_bodies.push_back(std::stol(s));
   c.plot = prm.get_bool("plot");
   prm.leave_subsection();
+  c.fingerprint = fingerprint(prm);
   return c;
 }
 

@@ -50,6 +50,9 @@ struct GeneratorParameters {
 
 struct CaseParameters {
   std::string file;  // the case file this came from
+  // Every parameter that changes what the run computes, as read: one "subsection/name = value"
+  // line each (a resumed run checks that its case is the one it started from).
+  std::string fingerprint;
   std::string mode = "dem";
   // simulation
   double time_step = 0, critical_fraction = 0.2;
@@ -76,6 +79,7 @@ struct CaseParameters {
   // output
   std::string output_folder = "results/default";
   double history_interval = 1e-3, vtu_interval = 0, snapshot_interval = 0, progress_interval = 2;
+  double checkpoint_interval = 600;  // wall seconds; 0: none (but on interruption)
   std::vector<long> tracked_bodies;
   bool plot = true;
 };

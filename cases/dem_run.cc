@@ -7,6 +7,7 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -60,7 +61,14 @@ struct DemRun::Series {
   std::unique_ptr<dem::AtomicFile> walls, energy, bodies;
 };
 
-DemRun::DemRun(CaseParameters parameters) : prm_(std::move(parameters)) {}
+DemRun::DemRun(CaseParameters parameters) : prm_(std::move(parameters)) {
+  // TRACKBED_TEST_SIGNAL="STEP SIGNAL": the run sends itself SIGNAL after STEP, so that tests can
+  // interrupt (SIGTERM) or kill (SIGKILL) it at a chosen point.
+  if (const char* v = std::getenv("TRACKBED_TEST_SIGNAL")) {
+    std::istringstream in(v);
+    in >> test_signal_.first >> test_signal_.second;
+  }
+}
 DemRun::~DemRun() = default;
 
 void DemRun::build_model() {
@@ -214,38 +222,50 @@ dem::Particles DemRun::sample_particles(const dem::Sample& sample,
   return p;
 }
 
-void DemRun::open_outputs() {
+void DemRun::open_outputs(const RunCheckpoint* c) {
   out_ = prm_.output_folder;
   fs::create_directories(fs::path(out_) / "history");
   fs::create_directories(fs::path(out_) / "vtu");
   fs::create_directories(fs::path(out_) / "snapshots");
   series_ = std::make_unique<Series>();
   const std::string h = out_ + "/history/";
-  series_->walls = std::make_unique<dem::AtomicFile>(h + "walls.csv");
-  series_->energy = std::make_unique<dem::AtomicFile>(h + "energy.csv");
-  series_->bodies = std::make_unique<dem::AtomicFile>(h + "bodies.csv");
+  auto open = [&](const char* name, int k) {
+    return c ? std::make_unique<dem::AtomicFile>(h + name, c->history_bytes[k])
+             : std::make_unique<dem::AtomicFile>(h + name);
+  };
+  series_->walls = open("walls.csv", 0);
+  series_->energy = open("energy.csv", 1);
+  series_->bodies = open("bodies.csv", 2);
+  for (auto* f : {series_->walls.get(), series_->energy.get(), series_->bodies.get()})
+    f->stream() << std::setprecision(12);
+
+  auto collection = [&](const char* kind) {
+    std::vector<std::pair<double, std::string>> frames;
+    if (c)
+      for (std::size_t k = 0; k < c->frame_times.size(); ++k)
+        frames.emplace_back(c->frame_times[k], frame_file(kind, static_cast<int>(k)));
+    return std::make_unique<dem::PvdCollection>(out_ + "/" + kind + ".pvd", std::move(frames));
+  };
+  pvd_particles_ = collection("particles");
+  pvd_contacts_ = collection("contacts");
+  pvd_walls_ = collection("walls");
+  if (c) return;
 
   auto& w = series_->walls->stream();
   w << "time";
   for (const auto& p : sim_->planes())
-    for (const char* c : {"fx", "fy", "fz", "mx", "my", "mz"}) w << "," << p.name << "_" << c;
+    for (const char* col : {"fx", "fy", "fz", "mx", "my", "mz"}) w << "," << p.name << "_" << col;
   for (const auto& m : sim_->meshes()) {
-    for (const char* c : {"x", "y", "z", "fx", "fy", "fz", "mx", "my", "mz"})
-      w << "," << m.name << "_" << c;
+    for (const char* col : {"x", "y", "z", "fx", "fy", "fz", "mx", "my", "mz"})
+      w << "," << m.name << "_" << col;
     for (const auto& part : m.local.part_names)
-      for (const char* c : {"fx", "fy", "fz", "mx", "my", "mz"})
-        w << "," << m.name << "." << part << "_" << c;
+      for (const char* col : {"fx", "fy", "fz", "mx", "my", "mz"})
+        w << "," << m.name << "." << part << "_" << col;
   }
   w << "\n";
   series_->energy->stream() << "time,kinetic,strain,friction,rolling,dashpot,local_damping,"
                                "gravity_work,wall_work,balance_error\n";
   series_->bodies->stream() << "time,id,x,y,z,vx,vy,vz,wx,wy,wz\n";
-  for (auto* f : {series_->walls.get(), series_->energy.get(), series_->bodies.get()})
-    f->stream() << std::setprecision(12);
-
-  pvd_particles_ = std::make_unique<dem::PvdCollection>(out_ + "/particles.pvd");
-  pvd_contacts_ = std::make_unique<dem::PvdCollection>(out_ + "/contacts.pvd");
-  pvd_walls_ = std::make_unique<dem::PvdCollection>(out_ + "/walls.pvd");
 }
 
 void DemRun::write_history() {
@@ -285,16 +305,20 @@ void DemRun::write_history() {
   if (push_) push_->record(*sim_);
 }
 
-void DemRun::write_frame() {
+std::string DemRun::frame_file(const char* kind, int k) {
   char name[64];
-  std::snprintf(name, sizeof name, "%06d.vtu", frame_++);
-  const std::string n(name);
-  dem::particles_grid(*sim_, &initial_positions_).write(out_ + "/vtu/particles-" + n);
-  dem::contacts_grid(*sim_).write(out_ + "/vtu/contacts-" + n);
-  dem::walls_grid(*sim_).write(out_ + "/vtu/walls-" + n);
-  pvd_particles_->add(sim_->time(), "vtu/particles-" + n);
-  pvd_contacts_->add(sim_->time(), "vtu/contacts-" + n);
-  pvd_walls_->add(sim_->time(), "vtu/walls-" + n);
+  std::snprintf(name, sizeof name, "vtu/%s-%06d.vtu", kind, k);
+  return name;
+}
+
+void DemRun::write_frame() {
+  const int k = frame_++;
+  dem::particles_grid(*sim_, &initial_positions_).write(out_ + "/" + frame_file("particles", k));
+  dem::contacts_grid(*sim_).write(out_ + "/" + frame_file("contacts", k));
+  dem::walls_grid(*sim_).write(out_ + "/" + frame_file("walls", k));
+  pvd_particles_->add(sim_->time(), frame_file("particles", k));
+  pvd_contacts_->add(sim_->time(), frame_file("contacts", k));
+  pvd_walls_->add(sim_->time(), frame_file("walls", k));
 }
 
 void DemRun::write_snapshot() {
@@ -305,9 +329,9 @@ void DemRun::write_snapshot() {
 
 void DemRun::report_progress(bool last) {
   const auto now = Clock::now();
-  const double wall = std::chrono::duration<double>(now - start_).count();
+  const double wall = earlier_wall_seconds_ + std::chrono::duration<double>(now - start_).count();
   const double loop = std::chrono::duration<double>(now - loop_start_).count();
-  const long done = sim_->step_count() - loop_start_step_;
+  const long done = sim_->step_count() - std::max(loop_start_step_, part_first_step_);
   const double rate = loop > 0 ? done / loop : 0;
   const double eta = rate > 0 ? (total_steps_ - sim_->step_count()) / rate : NAN;
   const double t_end = total_steps_ * sim_->time_step();
@@ -337,15 +361,28 @@ int DemRun::run() {
   start_ = Clock::now();
   if (prm_.threads > 0) omp_set_num_threads(prm_.threads);
   build_model();
-  sim_->setup();
-  if (!prm_.sample_file.empty()) {
-    const int restored = sim_->restore_contact_state(sample_contacts_);
-    std::cout << "trackbed: sample " << prm_.sample_file << ": " << restored << " of "
-              << sample_contacts_.pairs.size() + sample_contacts_.walls.size()
-              << " contact springs restored" << std::endl;
-  }
-  initial_energy_ = sim_->energy();
-  initial_positions_ = sim_->particles().pos;
+  start_fresh();
+  return loop_and_finish();
+}
+
+int DemRun::resume(RunCheckpoint checkpoint) {
+  start_ = Clock::now();
+  if (prm_.threads > 0) omp_set_num_threads(prm_.threads);
+  build_model();
+  start_from(checkpoint);
+  return loop_and_finish();
+}
+
+void DemRun::make_push_test() {
+  if (!prm_.push.mesh.empty()) push_ = std::make_unique<PushTest>(prm_.push, *sim_, prm_.file);
+  // A push test ends when the push does; the step count is its estimate, updated as it goes.
+  const double end_time = push_ ? push_->expected_end(*sim_) : prm_.end_time;
+  total_steps_ = prm_.number_of_steps > 0
+                     ? prm_.number_of_steps
+                     : static_cast<long>(std::ceil(end_time / sim_->time_step() - 1e-9));
+}
+
+void DemRun::find_tracked_bodies() {
   // Bodies are reordered at setup; the case file names them by id (row of the particle file).
   for (long id : prm_.tracked_bodies) {
     const auto& ids = sim_->particles().id;
@@ -355,12 +392,20 @@ int DemRun::run() {
                             std::to_string(id) + "; valid: 0 to " + std::to_string(ids.size() - 1));
     tracked_.push_back(static_cast<int>(it - ids.begin()));
   }
-  if (!prm_.push.mesh.empty()) push_ = std::make_unique<PushTest>(prm_.push, *sim_, prm_.file);
-  // A push test ends when the push does; the step count is its estimate, updated as it goes.
-  const double end_time = push_ ? push_->expected_end(*sim_) : prm_.end_time;
-  total_steps_ = prm_.number_of_steps > 0
-                     ? prm_.number_of_steps
-                     : static_cast<long>(std::ceil(end_time / sim_->time_step() - 1e-9));
+}
+
+void DemRun::start_fresh() {
+  sim_->setup();
+  if (!prm_.sample_file.empty()) {
+    const int restored = sim_->restore_contact_state(sample_contacts_);
+    std::cout << "trackbed: sample " << prm_.sample_file << ": " << restored << " of "
+              << sample_contacts_.pairs.size() + sample_contacts_.walls.size()
+              << " contact springs restored" << std::endl;
+  }
+  initial_energy_ = sim_->energy();
+  initial_positions_ = sim_->particles().pos;
+  find_tracked_bodies();
+  make_push_test();
   open_outputs();
 
   const auto& p = sim_->particles();
@@ -369,17 +414,65 @@ int DemRun::run() {
             << sim_->meshes().size() << " meshes; time step " << sim_->time_step()
             << " s (critical " << sim_->critical_timestep() << " s), " << total_steps_ << " steps, "
             << sim_->team_size() << " threads" << std::endl;
-
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
   write_history();
   write_frame();
   next_history_ = prm_.history_interval;
   next_frame_ = prm_.vtu_interval > 0 ? prm_.vtu_interval : INFINITY;
   next_snapshot_ = prm_.snapshot_interval > 0 ? prm_.snapshot_interval : INFINITY;
-  loop_start_ = last_progress_ = Clock::now();
   loop_start_step_ = 0;
+}
 
+void DemRun::start_from(RunCheckpoint& c) {
+  // The push test checks the case's push DOF before the checkpoint's controls replace it.
+  make_push_test();
+  if (c.has_push != (push_ != nullptr))
+    throw dem::InputError(prm_.file + ": the checkpoint " +
+                          std::string(c.has_push ? "has" : "has no") + " push test and the case " +
+                          (push_ ? "has" : "has none") + "; valid: the case the run started from");
+  const long step = c.engine.steps;
+  sim_->restore_engine_state(std::move(c.engine));
+  if (push_) push_->resume(c.push);
+  if (push_) total_steps_ = std::lround(push_->expected_end(*sim_) / sim_->time_step());
+  initial_energy_ = c.initial_energy;
+  initial_positions_ = std::move(c.initial_positions);
+  find_tracked_bodies();
+  next_history_ = c.next_history;
+  next_frame_ = c.next_frame;
+  next_snapshot_ = c.next_snapshot;
+  warned_critical_ = c.warned_critical;
+  frame_ = static_cast<int>(c.frame_times.size());
+  loop_start_step_ = c.loop_start_step;
+  earlier_wall_seconds_ = c.wall_seconds;
+  earlier_loop_seconds_ = c.loop_seconds;
+  part_first_step_ = step;
+  open_outputs(&c);
+  remove_outputs_after(step);
+  std::cout << "trackbed: resuming " << prm_.file << " in " << out_ << " at t = " << sim_->time()
+            << " s (step " << step << " of about " << total_steps_ << "), "
+            << sim_->particles().num_elements() << " sphere elements, " << sim_->team_size()
+            << " threads" << std::endl;
+}
+
+void DemRun::remove_outputs_after(long step) {
+  // An interrupted run wrote a last frame and snapshot after its checkpoint; the resumed run
+  // writes its own. Files of frames from frame_ on and snapshots after `step` go.
+  for (const auto& entry : fs::directory_iterator(fs::path(out_) / "vtu")) {
+    const std::string name = entry.path().filename().string();
+    const std::size_t dash = name.rfind('-');
+    if (dash != std::string::npos && std::atoi(name.c_str() + dash + 1) >= frame_)
+      fs::remove(entry.path());
+  }
+  for (const auto& entry : fs::directory_iterator(fs::path(out_) / "snapshots")) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("state-", 0) == 0 && std::atol(name.c_str() + 6) > step)
+      fs::remove(entry.path());
+  }
+}
+
+int DemRun::loop_and_finish() {
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+  loop_start_ = last_progress_ = last_checkpoint_ = Clock::now();
   try {
     advance();
   } catch (const std::exception& e) {
@@ -388,8 +481,38 @@ int DemRun::run() {
     throw;
   }
   const bool interrupted = g_signal != 0;
+  if (interrupted && prm_.checkpoint_interval > 0) write_checkpoint();
   finish(interrupted ? "interrupted" : "finished");
+  if (interrupted && prm_.checkpoint_interval > 0)
+    std::cout << "trackbed: interrupted at t = " << sim_->time()
+              << " s; continue with: trackbed resume " << out_ << std::endl;
   return interrupted ? 130 : 0;
+}
+
+void DemRun::write_checkpoint() {
+  RunCheckpoint c;
+  c.case_file = fs::absolute(prm_.file).lexically_normal().string();
+  c.case_fingerprint = prm_.fingerprint;
+  c.version = TRACKBED_VERSION;
+  c.threads = omp_get_max_threads();
+  c.engine = sim_->engine_state();
+  c.next_history = next_history_;
+  c.next_frame = next_frame_;
+  c.next_snapshot = next_snapshot_;
+  for (const auto& [t, file] : pvd_particles_->entries()) c.frame_times.push_back(t);
+  for (auto* f : {series_->walls.get(), series_->energy.get(), series_->bodies.get()})
+    c.history_bytes.push_back(f->flushed_size());
+  c.warned_critical = warned_critical_;
+  c.loop_start_step = loop_start_step_;
+  const auto now = Clock::now();
+  c.wall_seconds = earlier_wall_seconds_ + std::chrono::duration<double>(now - start_).count();
+  c.loop_seconds = earlier_loop_seconds_ + std::chrono::duration<double>(now - loop_start_).count();
+  c.initial_energy = initial_energy_;
+  c.initial_positions = initial_positions_;
+  c.has_push = push_ != nullptr;
+  if (push_) c.push = push_->progress();
+  write_run_checkpoint(out_ + "/" + kCheckpointFile, c);
+  last_checkpoint_ = Clock::now();
 }
 
 void DemRun::advance() {
@@ -399,6 +522,7 @@ void DemRun::advance() {
     if (sim_->step_count() == prm_.warmup_steps && prm_.warmup_steps > 0) {
       loop_start_ = Clock::now();
       loop_start_step_ = sim_->step_count();
+      earlier_loop_seconds_ = 0;
     }
     if (push_) push_->control(*sim_);
     sim_->step();
@@ -421,15 +545,22 @@ void DemRun::advance() {
       if (push_) total_steps_ = std::lround(push_->expected_end(*sim_) / dt);
       report_progress(false);
     }
+    if (prm_.checkpoint_interval > 0 &&
+        std::chrono::duration<double>(Clock::now() - last_checkpoint_).count() >=
+            prm_.checkpoint_interval)
+      write_checkpoint();
+    if (sim_->step_count() == test_signal_.first) std::raise(test_signal_.second);
   }
-  loop_seconds_ = std::chrono::duration<double>(Clock::now() - loop_start_).count();
+  loop_seconds_ =
+      earlier_loop_seconds_ + std::chrono::duration<double>(Clock::now() - loop_start_).count();
   sim_->check_finite();
 }
 
 void DemRun::finish(const std::string& status) {
   const bool finished = status == "finished";
   if (loop_seconds_ == 0)
-    loop_seconds_ = std::chrono::duration<double>(Clock::now() - loop_start_).count();
+    loop_seconds_ =
+        earlier_loop_seconds_ + std::chrono::duration<double>(Clock::now() - loop_start_).count();
   report_progress(true);
   write_history();
   if (finished || status == "interrupted") {
@@ -443,6 +574,8 @@ void DemRun::finish(const std::string& status) {
   if (push_) push_->write_csv(out_ + "/push.csv");
   write_summary(status);
   if (prm_.plot && finished) make_plot();
+  // A finished run needs no checkpoint (and it is the largest file of the folder).
+  if (finished) fs::remove(fs::path(out_) / kCheckpointFile);
   std::cout << "trackbed: results in " << out_ << (finished ? "" : " (" + status + ")")
             << std::endl;
 }
@@ -450,7 +583,8 @@ void DemRun::finish(const std::string& status) {
 void DemRun::write_summary(const std::string& status) {
   const auto& p = sim_->particles();
   const dem::EnergyBudget e = sim_->energy();
-  const double wall = std::chrono::duration<double>(Clock::now() - start_).count();
+  const double wall =
+      earlier_wall_seconds_ + std::chrono::duration<double>(Clock::now() - start_).count();
   const long timed = sim_->step_count() - loop_start_step_;
   const double scale = std::max({std::abs(e.kinetic) + e.strain, e.dissipated(),
                                  std::abs(e.gravity_work), std::abs(e.wall_work), 1e-300});

@@ -121,6 +121,39 @@ void PushTest::write_csv(const std::string& path) const {
   f.commit();
 }
 
+PushTest::Progress PushTest::progress() const {
+  Progress p{start_,         push_start_,     hold_ratio_, static_cast<long>(leg_),
+             confirmations_, hold_converged_, {}};
+  for (const Row& r : rows_) {
+    std::vector<double> v = {r.time, r.displacement, r.resistance, r.vertical_load};
+    v.insert(v.end(), r.part_resistance.begin(), r.part_resistance.end());
+    v.insert(v.end(), {r.max_particle_force, r.max_body_force, r.unbalance});
+    p.rows.push_back(std::move(v));
+  }
+  return p;
+}
+
+void PushTest::resume(const Progress& p) {
+  const std::size_t columns = 7 + parts_.size();
+  for (const auto& v : p.rows)
+    if (v.size() != columns)
+      throw dem::InputError("push test: a saved row has " + std::to_string(v.size()) +
+                            " numbers; valid: " + std::to_string(columns) + " for the mesh '" +
+                            prm_.mesh + "' and its parts");
+  if (p.leg < 0 || p.leg > static_cast<long>(prm_.path.size()))
+    throw dem::InputError("push test: the saved leg " + std::to_string(p.leg) +
+                          " is not one of the path's " + std::to_string(prm_.path.size()));
+  start_ = p.start, push_start_ = p.push_start, hold_ratio_ = p.hold_ratio;
+  leg_ = static_cast<std::size_t>(p.leg), confirmations_ = p.confirmations;
+  hold_converged_ = p.hold_converged;
+  rows_.clear();
+  for (const auto& v : p.rows) {
+    const std::size_t n = parts_.size();
+    rows_.push_back({v[0], v[1], v[2], v[3], std::vector<double>(v.begin() + 4, v.begin() + 4 + n),
+                     v[4 + n], v[5 + n], v[6 + n]});
+  }
+}
+
 double PushTest::interpolated_at(const std::vector<double>& curve, double d) const {
   for (std::size_t k = 1; k < rows_.size(); ++k) {
     const Row &a = rows_[k - 1], &b = rows_[k];

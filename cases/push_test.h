@@ -62,6 +62,20 @@ class PushTest {
   void write_csv(const std::string& path) const;
   std::vector<SummaryItem> summary() const;
 
+  // What the test has done so far, for checkpoints (run_checkpoint.h): where the push started,
+  // the hold, the leg being travelled, and the rows recorded, each as the numbers of its push.csv
+  // row. A test made for the same case and given it goes on as the saved one would have.
+  struct Progress {
+    double start = 0, push_start = -1, hold_ratio = NAN;
+    long leg = 0;
+    int confirmations = 0;
+    bool hold_converged = false;
+    std::vector<std::vector<double>> rows;
+  };
+  Progress progress() const;
+  // Throws dem::InputError if the rows do not have this test's columns.
+  void resume(const Progress& p);
+
  private:
   struct Row {
     double time, displacement, resistance, vertical_load;

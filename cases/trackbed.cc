@@ -1,16 +1,22 @@
 // trackbed: railway ballast track simulator. The command line:
 //   trackbed run CASE.prm [--mode dem] [--threads N] [--output DIR]
+//   trackbed resume DIR [--threads N]        continue an interrupted run from its checkpoint
 //   trackbed build-sample SAMPLE.prm [--threads N] [--output DIR]
 //   trackbed --print-parameters      every case-file parameter with default and documentation
 //   trackbed build-sample --print-parameters   the same for sample files
 //   trackbed --help | --version
 #include <exception>
+#include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <iterator>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "cases/case_parameters.h"
 #include "cases/dem_run.h"
+#include "cases/run_checkpoint.h"
 #include "cases/sample_parameters.h"
 #include "cases/sample_run.h"
 #include "dem/input_error.h"
@@ -19,6 +25,7 @@ namespace {
 
 const char* const kUsage =
     "usage: trackbed run CASE.prm [--mode dem|coupled] [--threads N] [--output DIR]\n"
+    "       trackbed resume DIR [--threads N]\n"
     "       trackbed build-sample SAMPLE.prm [--threads N] [--output DIR]\n"
     "       trackbed --print-parameters | build-sample --print-parameters\n"
     "       trackbed --help | --version\n"
@@ -26,6 +33,8 @@ const char* const kUsage =
     "Runs the railway ballast model described by CASE.prm (deal.II parameter file syntax) and\n"
     "writes a results folder: CSV histories, ParaView files, HDF5 snapshots, summary.json,\n"
     "summary.txt and plot.png. The default case is cases/default.prm.\n"
+    "resume continues a run that was interrupted (Ctrl-C, SIGTERM, a crash) from the last\n"
+    "checkpoint in its results folder DIR, and ends it as the uninterrupted run would have.\n"
     "build-sample builds a ballast sample of a track section (deposition, compaction, sleeper\n"
     "seating, balls converted to clumps in a zone) and writes sample.h5 for cases to load.\n"
     "  --mode      override 'mode' (dem: DEM with rigid walls; coupled: with the FE tier)\n"
@@ -65,6 +74,65 @@ std::string parse_options(const std::vector<std::string>& args, bool with_mode, 
   return "";
 }
 
+// The first line that differs between two fingerprints of a case (CaseParameters::fingerprint).
+std::string first_difference(const std::string& then, const std::string& now) {
+  std::istringstream a(then), b(now);
+  std::string la, lb;
+  while (true) {
+    const bool more_a = static_cast<bool>(std::getline(a, la));
+    const bool more_b = static_cast<bool>(std::getline(b, lb));
+    if (!more_a && !more_b) return "";
+    if (!more_a || !more_b || la != lb)
+      return "'" + (more_a ? la : std::string("(nothing)")) + "' then, '" +
+             (more_b ? lb : std::string("(nothing)")) + "' now";
+  }
+}
+
+int resume(const std::vector<std::string>& args) {
+  namespace fs = std::filesystem;
+  using namespace trackbed::cases;
+  if (args.size() < 2) return fail("'resume' needs a results folder: trackbed resume DIR");
+  const std::string dir = args[1];
+  int threads = -1;
+  for (std::size_t i = 2; i < args.size(); i += 2) {
+    if (args[i] != "--threads" || i + 1 >= args.size())
+      return fail("resume: unknown option '" + args[i] + "'; valid: --threads N");
+    try {
+      threads = std::stoi(args[i + 1]);
+    } catch (const std::exception&) {
+      threads = 0;
+    }
+    if (threads < 1) return fail("--threads " + args[i + 1] + ": valid: an integer >= 1");
+  }
+  const std::string path = (fs::path(dir) / kCheckpointFile).string();
+  if (!fs::is_regular_file(path)) {
+    std::ifstream summary(fs::path(dir) / "summary.json");
+    const std::string text((std::istreambuf_iterator<char>(summary)), {});
+    if (text.find("\"status\": \"finished\"") != std::string::npos)
+      return fail(dir + ": the run finished; there is nothing to resume");
+    return fail(path +
+                ": no such file; valid: the results folder of a run interrupted after its first "
+                "checkpoint (output/checkpoint interval, and on Ctrl-C or SIGTERM)");
+  }
+  RunCheckpoint checkpoint = read_run_checkpoint(path);
+  if (!fs::is_regular_file(checkpoint.case_file))
+    return fail(path + ": the run's case file " + checkpoint.case_file +
+                " is missing; valid: the case file the run started from, where it was");
+  CaseParameters prm = read_case_file(checkpoint.case_file);
+  const std::string changed = first_difference(checkpoint.case_fingerprint, prm.fingerprint);
+  if (!changed.empty())
+    return fail(checkpoint.case_file + " has changed since the run started: " + changed +
+                "; valid: the case as it was, or a new run with trackbed run");
+  prm.output_folder = dir;
+  prm.threads = threads > 0 ? threads : checkpoint.threads;
+  if (prm.threads != checkpoint.threads)
+    std::cout << "trackbed: resuming on " << prm.threads << " threads where the run had "
+              << checkpoint.threads
+              << ": the results will not be bit for bit those of an uninterrupted run" << std::endl;
+  DemRun run(std::move(prm));
+  return run.resume(std::move(checkpoint));
+}
+
 int build_sample(const std::vector<std::string>& args) {
   if (args.size() >= 2 && args[1] == "--print-parameters") {
     trackbed::cases::print_sample_parameters(std::cout);
@@ -97,11 +165,12 @@ int main(int argc, char** argv) {
     trackbed::cases::print_parameters(std::cout);
     return 0;
   }
-  if (args[0] != "run" && args[0] != "build-sample")
+  if (args[0] != "run" && args[0] != "resume" && args[0] != "build-sample")
     return fail("unknown command '" + args[0] +
-                "'; valid: run, build-sample, --print-parameters, --help, --version");
+                "'; valid: run, resume, build-sample, --print-parameters, --help, --version");
   try {
     if (args[0] == "build-sample") return build_sample(args);
+    if (args[0] == "resume") return resume(args);
     if (args.size() < 2) return fail("'run' needs a case file: trackbed run CASE.prm");
     trackbed::cases::CaseParameters prm = trackbed::cases::read_case_file(args[1]);
     const std::string bad = parse_options(args, true, prm.mode, prm.threads, prm.output_folder);

@@ -211,6 +211,7 @@ void ClumpConversion::settle() {
   c.max_time = settings_.max_stage_time;
   c.ratio = settings_.equilibrium_ratio;
   model_.require_seated_sleeper(c);
+  model_.release_sleeper_when_carried(c);
   report_.stages.push_back(runner_.settle(*sim_, "equilibrium", c));
 }
 

@@ -1,5 +1,6 @@
 #include "dem/hdf5_io.h"
 
+#include <cstdio>
 #include <filesystem>
 #include <stdexcept>
 
@@ -24,6 +25,20 @@ hid_t create_file(const std::string& path) {
   const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (f < 0) throw std::runtime_error("HDF5: create " + path + " failed (check the folder)");
   return f;
+}
+
+void write_file(const std::string& path, const std::string& what,
+                const std::function<void(hid_t file)>& fill) {
+  const std::string tmp = path + ".part";
+  try {
+    Handle file(create_file(tmp), H5Fclose, "create " + tmp);
+    fill(file);
+  } catch (...) {
+    std::remove(tmp.c_str());
+    throw;
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    throw std::runtime_error(path + ": cannot rename the finished " + what + " into place");
 }
 
 hid_t create_group(hid_t parent, const char* name) {

@@ -7,6 +7,7 @@
 #include <hdf5.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,11 @@ hid_t open_for_reading(const std::string& path, const std::string& what);
 // Creates (truncates) a file for writing.
 hid_t create_file(const std::string& path);
 hid_t create_group(hid_t parent, const char* name);
+// Writes a whole file: creates PATH.part, lets `fill` write into it, closes it and renames it to
+// PATH, so that no reader (and no crash) sees it half-written; PATH.part is removed if `fill`
+// throws. `what` names the file in the error of a failed rename.
+void write_file(const std::string& path, const std::string& what,
+                const std::function<void(hid_t file)>& fill);
 // InputError if the group is missing.
 hid_t open_group(hid_t parent, const std::string& file, const char* name);
 

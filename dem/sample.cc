@@ -1,8 +1,5 @@
 #include "dem/sample.h"
 
-#include <cstdio>
-#include <stdexcept>
-
 #include "dem/hdf5_io.h"
 #include "dem/input_error.h"
 
@@ -221,9 +218,7 @@ std::string Sample::info_value(const std::string& key) const {
 }
 
 void write_sample(const std::string& path, const Sample& sample) {
-  const std::string tmp = path + ".part";
-  try {
-    hdf5::Handle file(hdf5::create_file(tmp), H5Fclose, "create " + tmp);
+  hdf5::write_file(path, "sample", [&](hid_t file) {
     hdf5::write_string_attribute(file, "format", kFormat);
     hdf5::write_strings(file, "materials", sample.materials);
     std::vector<std::string> info;
@@ -232,12 +227,7 @@ void write_sample(const std::string& path, const Sample& sample) {
     write_bodies(file, sample);
     write_walls(file, sample);
     write_contacts(file, sample.contacts);
-  } catch (...) {
-    std::remove(tmp.c_str());
-    throw;
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw std::runtime_error(path + ": cannot rename the finished sample into place");
+  });
 }
 
 Sample read_sample(const std::string& path) {

@@ -121,8 +121,9 @@ int SectionModel::permanent_walls() const {
 
 namespace {
 
-const MeshBody* sleeper_of(const Simulation& sim) {
-  for (const MeshBody& m : sim.meshes())
+template <class Sim>
+auto sleeper_of(Sim& sim) -> decltype(&sim.meshes().front()) {
+  for (auto& m : sim.meshes())
     if (m.name == SectionModel::kSleeperName) return &m;
   return nullptr;
 }
@@ -159,6 +160,17 @@ void SectionModel::require_seated_sleeper(SettleCriterion& c, double max_speed) 
     const double mean_load = i.load_sum / i.steps;
     const double mean_speed = (m->x - i.start).norm() / (sim.time() - i.start_time);
     return std::abs(mean_load - held) <= 0.01 * std::abs(held) && mean_speed < max_speed;
+  };
+}
+
+void SectionModel::release_sleeper_when_carried(SettleCriterion& c) const {
+  c.each_step = [record = std::move(c.each_step)](Simulation& sim) {
+    if (MeshBody* m = sleeper_of(sim)) {
+      DofControl& z = m->dof[2];
+      // value: the held load, downward (negative); the contact load carries it when the sum is 0.
+      if (z.mode == DofMode::servo && m->contact_force.z() + z.value <= 0) z.mode = DofMode::free;
+    }
+    if (record) record(sim);
   };
 }
 

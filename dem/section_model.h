@@ -63,6 +63,14 @@ class SectionModel {
   // values at the check: the servo's speed follows the load error of each step, which the
   // contacts of a settling bed scatter from step to step (docs/samples.md, "Equilibrium").
   void require_seated_sleeper(SettleCriterion& c, double max_speed = 1e-4) const;
+  // Makes `c` let the sleeper go once the bed carries no more than its weight: its vertical DOF
+  // turns from the servo to free under gravity after the first step whose contact load is at most
+  // the weight, and the sleeper sinks into the bed at the pace the bed gives way rather than at the
+  // servo's (a servo's speed is its relaxation times the load error over the contacts' stiffness
+  // per step: slow on a bed that yields, docs/samples.md, "Equilibrium"). Released no earlier, so
+  // that the force a growth has pent up under the sleeper does not launch it. Call after
+  // require_seated_sleeper, whose per-step recording it keeps.
+  void release_sleeper_when_carried(SettleCriterion& c) const;
   // Walls every stage has, numbered first: base, crib walls (unless periodic), side walls (a box).
   int permanent_walls() const;
 

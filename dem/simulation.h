@@ -27,6 +27,8 @@
 
 namespace trackbed::dem {
 
+struct EngineState;
+
 struct SimulationSettings {
   double time_step = 1e-5;  // s; 0: critical_fraction * the critical timestep at setup
   double critical_fraction = 0.2;
@@ -131,6 +133,13 @@ class Simulation {
   // Sets the clock (a snapshot being read back; contact springs are not part of a snapshot).
   void set_time(double t, long steps) { time_ = t, steps_ = steps; }
 
+  // The complete state of the set-up model (a checkpoint, engine_state.h), and its restoration
+  // into a model built from the same input, in place of setup(): the same walls and meshes by
+  // name, the same bodies by id. The model then steps on bit for bit as the saved one (same number
+  // of threads). Throws InputError naming what does not match.
+  EngineState engine_state() const;
+  void restore_engine_state(EngineState state);
+
  private:
   struct PairHistory;
   struct WallHistory;
@@ -160,6 +169,7 @@ class Simulation {
   template <class Visitor>
   void visit_mesh_contacts(Visitor&& visit) const;
   [[noreturn]] void runaway(int ei, int ej, double ratio, const std::string& other) const;
+  bool consistent_lists(const EngineState& s, std::size_t nwalls) const;
 
   MaterialTable materials_;
   Particles p_;

@@ -1,8 +1,6 @@
 #include "dem/snapshot.h"
 
 #include <algorithm>
-#include <cstdio>
-#include <stdexcept>
 #include <vector>
 
 #include "dem/hdf5_io.h"
@@ -45,10 +43,8 @@ void write_doubles(hid_t parent, const char* name, const std::vector<double>& v)
 }  // namespace
 
 void write_snapshot(const std::string& path, const Simulation& sim) {
-  const std::string tmp = path + ".part";
-  try {
+  hdf5::write_file(path, "snapshot", [&](hid_t file) {
     const Particles& p = sim.particles();
-    Handle file(hdf5::create_file(tmp), H5Fclose, "create " + tmp);
     write_doubles(file, "clock", {sim.time(), static_cast<double>(sim.step_count())});
     Handle bodies(hdf5::create_group(file, "bodies"), H5Gclose, "group bodies");
     hdf5::write_vectors(bodies, "position", p.x);
@@ -77,12 +73,7 @@ void write_snapshot(const std::string& path, const Simulation& sim) {
     hdf5::write_quaternions(walls, "mesh_orientation_wxyz", mq);
     hdf5::write_vectors(walls, "mesh_velocity", mv);
     hdf5::write_vectors(walls, "mesh_angular_velocity", mw);
-  } catch (...) {
-    std::remove(tmp.c_str());
-    throw;
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
-    throw std::runtime_error(path + ": cannot rename the finished snapshot into place");
+  });
 }
 
 void read_snapshot(const std::string& path, Simulation& sim) {

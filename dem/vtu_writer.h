@@ -42,7 +42,11 @@ VtuGrid walls_grid(const Simulation& sim);
 class PvdCollection {
  public:
   explicit PvdCollection(std::string path) : path_(std::move(path)) {}
+  // The collection of a resumed run: its entries so far, the file rewritten at the next add.
+  PvdCollection(std::string path, std::vector<std::pair<double, std::string>> entries)
+      : path_(std::move(path)), entries_(std::move(entries)) {}
   void add(double time, const std::string& relative_file);
+  const std::vector<std::pair<double, std::string>>& entries() const { return entries_; }
 
  private:
   std::string path_;

@@ -1,6 +1,9 @@
 // The trackbed executable as a user runs it: every kind of bad input stops with one line naming
 // the file/line or parameter and exits non-zero, leaving no partial output; a good run writes
 // its results folder and is reproducible bit for bit.
+#include <csignal>
+#include <cstdlib>
+
 #include "cli_fixture.h"
 
 namespace {
@@ -143,6 +146,103 @@ TEST_F(Cli, GoodRunWritesResultsAndIsReproducible) {
   ASSERT_EQ(b.code, 0) << b.err;
   EXPECT_EQ(slurp(dir_ / "out/history/walls.csv"), walls);
   EXPECT_EQ(slurp(dir_ / "out/history/energy.csv"), slurp(dir_ / "first/history/energy.csv"));
+}
+
+// A run interrupted and resumed from its checkpoint ends as the uninterrupted run: the same
+// histories, push rows and summary figures, digit for digit. A plate pushes 150 dropped balls (a
+// push test, with its hold) on two threads; two bodies are tracked.
+class Resume : public Cli {
+ protected:
+  std::string pushing_case(const std::string& extra = "") {
+    return small_case(
+        "subsection particles\n  subsection generator\n    set number = 150\n"
+        "    set region = 0, 0, 0, 0.3, 0.3, 0.3\n  end\nend\n"
+        "subsection simulation\n  set number of steps = 0\nend\n"
+        "subsection materials\n  subsection material 0\n    set local damping = 0.7\n  end\nend\n"
+        "subsection plane walls\n  set number of walls = 4\n"
+        "  subsection wall 1\n    set normal = 0, 1, 0\n  end\n"
+        "  subsection wall 2\n    set point = 0, 0.3, 0\n    set normal = 0, -1, 0\n  end\n"
+        "  subsection wall 3\n    set point = 0.3, 0, 0\n    set normal = -1, 0, 0\n  end\nend\n"
+        "subsection meshes\n  set number of meshes = 1\n  subsection mesh 0\n"
+        "    set name = plate\n    set box = -0.1, 0, 0, -0.001, 0.3, 0.12\n"
+        "    set dof x = velocity 0.05\n  end\nend\n"
+        "subsection push test\n  set mesh = plate\n  set distance = 0.01\n"
+        "  set minimum hold = 0.3\n  set maximum hold = 0.33\nend\n"
+        "subsection output\n  set tracked bodies = 0, 7\n  set progress interval = 0.05\n"
+        "end\n" +
+        extra);
+  }
+  // Runs the case with TRACKBED_TEST_SIGNAL="STEP SIGNAL" into out/.
+  Result run_signalled(const fs::path& prm, long step, int signal) {
+    setenv("TRACKBED_TEST_SIGNAL", (std::to_string(step) + " " + std::to_string(signal)).c_str(),
+           1);
+    Result r = run("run " + prm.string() + " --threads 2");
+    unsetenv("TRACKBED_TEST_SIGNAL");
+    return r;
+  }
+  void expect_same_results(const fs::path& a, const fs::path& b) {
+    for (const char* f : {"push.csv", "history/walls.csv", "history/energy.csv",
+                          "history/bodies.csv", "particles.pvd", "contacts.pvd"})
+      EXPECT_TRUE(slurp(a / f) == slurp(b / f)) << f << " differs";
+    for (const char* key : {"steps", "contacts", "kinetic_energy", "energy_balance_error",
+                            "peak_lateral_force_n", "max_particle_contact_force_push_n"})
+      EXPECT_EQ(summary_number(a, key), summary_number(b, key)) << key;
+    EXPECT_NE(slurp(b / "summary.json").find("\"status\": \"finished\""), std::string::npos);
+    EXPECT_FALSE(fs::exists(b / "checkpoint.h5"));  // a finished run needs none
+    for (const auto& e : fs::recursive_directory_iterator(b))
+      EXPECT_EQ(e.path().string().find(".part"), std::string::npos) << e.path();
+  }
+};
+
+TEST_F(Resume, InterruptedOrKilledRunEndsAsTheUninterruptedOne) {
+  const fs::path f = write("case.prm", pushing_case());
+  const Result whole = run("run " + f.string() + " --threads 2");
+  ASSERT_EQ(whole.code, 0) << whole.err;
+  const long steps = std::lround(summary_number(dir_ / "out", "steps"));
+  ASSERT_GT(steps, 50000);  // hold 0.3-0.33 s, then 0.2 s of push at 1e-5 s
+  fs::rename(dir_ / "out", dir_ / "whole");
+
+  // SIGTERM in the push: a checkpoint is written, the run ends "interrupted" with code 130 and
+  // says how to go on.
+  const Result stopped = run_signalled(f, 45000, SIGTERM);
+  EXPECT_EQ(stopped.code, 130) << stopped.err;
+  EXPECT_NE(stopped.out.find("trackbed resume " + (dir_ / "out").string()), std::string::npos)
+      << stopped.out;
+  EXPECT_TRUE(fs::exists(dir_ / "out/checkpoint.h5"));
+  EXPECT_NE(slurp(dir_ / "out/summary.json").find("interrupted"), std::string::npos);
+  const Result resumed = run("resume " + (dir_ / "out").string());
+  ASSERT_EQ(resumed.code, 0) << resumed.err;
+  EXPECT_NE(resumed.out.find("resuming"), std::string::npos);
+  expect_same_results(dir_ / "whole", dir_ / "out");
+  fs::remove_all(dir_ / "out");
+
+  // SIGKILL (a power loss) in the hold, with a checkpoint every millisecond of wall time: the run
+  // goes on from the last one, its histories cut back to what that one counted.
+  fs::remove(f);
+  const fs::path g = write(
+      "case.prm", pushing_case("subsection output\n  set checkpoint interval = 0.001\nend\n"));
+  const Result killed = run_signalled(g, 20000, SIGKILL);
+  EXPECT_TRUE(killed.code == -1 || killed.code == 128 + SIGKILL) << killed.code;  // by the shell
+  ASSERT_TRUE(fs::exists(dir_ / "out/checkpoint.h5"));
+  EXPECT_TRUE(fs::exists(dir_ / "out/history/walls.csv.part"));
+  const Result revived = run("resume " + (dir_ / "out").string());
+  ASSERT_EQ(revived.code, 0) << revived.err;
+  expect_same_results(dir_ / "whole", dir_ / "out");
+}
+
+TEST_F(Resume, WhatCannotBeResumedIsSaidInOneLine) {
+  const fs::path f = write("case.prm", pushing_case());
+  expect_error(run("resume " + (dir_ / "nothing").string()), {"checkpoint.h5", "no such file"});
+  ASSERT_EQ(run_signalled(f, 3000, SIGTERM).code, 130);
+  expect_error(run("resume " + (dir_ / "out").string() + " --threads x"), {"--threads x"});
+  // The case changed since: the parameter that differs, then and now.
+  const std::string original = slurp(f);
+  std::ofstream(f) << original << "subsection push test\n  set maximum hold = 0.34\nend\n";
+  expect_error(run("resume " + (dir_ / "out").string()),
+               {"case.prm has changed", "push test/maximum hold = 0.33", "= 0.34"});
+  std::ofstream(f) << original;
+  ASSERT_EQ(run("resume " + (dir_ / "out").string()).code, 0);
+  expect_error(run("resume " + (dir_ / "out").string()), {"the run finished"});
 }
 
 }  // namespace

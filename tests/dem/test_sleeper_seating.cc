@@ -1,5 +1,6 @@
 // When a sample build counts its sleeper as seated (SectionModel::require_seated_sleeper): the
-// means over a check interval of the sleeper's load and speed, each interval on its own.
+// means over a check interval of the sleeper's load and speed, each interval on its own; and when
+// a conversion lets it go from its servo (SectionModel::release_sleeper_when_carried).
 #include <gtest/gtest.h>
 
 #include "dem/mesh_body.h"
@@ -69,6 +70,35 @@ TEST(SleeperSeating, AFallingSleeperIsNotSeatedARestingOneIs) {
   EXPECT_TRUE(judge(sim, fast, 1, 500).front());
   // A judgement covers the steps since the last one only: an interval without steps is none.
   EXPECT_FALSE(slow.also(sim));
+}
+
+TEST(SleeperSeating, ReleasedFromItsServoOnlyOnceTheBedCarriesNoMoreThanItsWeight) {
+  // The box starts 0.5 mm into the balls (1.5 kN on them, 30 times the 50 N its servo holds, as a
+  // clump growth leaves a sleeper); with a mass whose weight is those 50 N.
+  Simulation sim = pressed_box(-0.0005);
+  MeshBody& box = sim.meshes()[0];
+  box.mass = 50 / 9.81;
+  box.weight = true;
+  SettleCriterion c;
+  model().require_seated_sleeper(c);
+  model().release_sleeper_when_carried(c);
+  int servo_steps = 0;
+  while (box.dof[2].mode == DofMode::servo && servo_steps < 100000) {
+    sim.step();
+    c.each_step(sim);
+    if (box.dof[2].mode == DofMode::servo) {
+      EXPECT_GT(box.contact_force.z(), 50) << "step " << sim.step_count();
+      ++servo_steps;
+    }
+  }
+  ASSERT_EQ(box.dof[2].mode, DofMode::free);
+  EXPECT_GT(servo_steps, 10);  // the servo first lifted it off the pent-up load
+  EXPECT_LE(box.contact_force.z(), 50);
+  // Free, it comes to rest on the balls carrying its weight, and counts as seated.
+  testing::run_for(sim, 0.5);
+  EXPECT_NEAR(box.contact_force.z(), 50, 0.05);
+  c.also(sim);
+  EXPECT_TRUE(judge(sim, c, 1, 500).front());
 }
 
 }  // namespace
