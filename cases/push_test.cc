@@ -16,21 +16,20 @@ const char* const kAxes = "xyz";
 PushTest::PushTest(PushTestParameters prm, dem::Simulation& sim, const std::string& case_file)
     : prm_(std::move(prm)) {
   const auto& meshes = sim.meshes();
-  const auto it = std::find_if(meshes.begin(), meshes.end(),
-                               [&](const dem::MeshBody& m) { return m.name == prm_.mesh; });
+  mesh_ = sim.mesh_index(prm_.mesh);
   const std::string where = case_file + ": push test/mesh = " + prm_.mesh;
-  if (it == meshes.end())
+  if (mesh_ < 0)
     throw dem::InputError(where + ": no mesh of this name in 'meshes'" +
                           (meshes.empty() ? "" : "; valid: " + meshes.front().name));
-  mesh_ = static_cast<int>(it - meshes.begin());
-  const dem::DofControl& dof = it->dof[prm_.axis];
+  const dem::MeshBody& body = meshes[mesh_];
+  const dem::DofControl& dof = body.dof[prm_.axis];
   if (dof.mode != dem::DofMode::velocity || dof.value == 0)
     throw dem::InputError(where + ": its 'dof " + std::string(1, kAxes[prm_.axis]) +
                           "' must be 'velocity V' with V != 0 (the push velocity, m/s)");
   velocity_ = dof.value;
-  weight_ = it->mass * sim.settings().gravity.norm();
-  parts_ = it->local.part_names;
-  start_ = it->x[prm_.axis];  // the push DOF does not move during the hold
+  weight_ = body.mass * sim.settings().gravity.norm();
+  parts_ = body.local.part_names;
+  start_ = body.x[prm_.axis];  // the push DOF does not move during the hold
   if (prm_.path.empty()) prm_.path = {prm_.distance};
 }
 

@@ -189,11 +189,11 @@ void SampleRun::write_summary(const dem::Sample& sample, const dem::Simulation& 
   struct rusage usage;
   getrusage(RUSAGE_SELF, &usage);
   double sleeper_load = NAN, sleeper_bottom = NAN;
-  for (const auto& m : sim.meshes())
-    if (m.name == dem::SectionModel::kSleeperName) {
-      sleeper_load = m.contact_force.z();
-      sleeper_bottom = m.x.z() - 0.5 * section.sleeper_height;
-    }
+  if (const int k = sim.mesh_index(dem::SectionModel::kSleeperName); k >= 0) {
+    const dem::MeshBody& m = sim.meshes()[k];
+    sleeper_load = m.contact_force.z();
+    sleeper_bottom = m.x.z() - 0.5 * section.sleeper_height;
+  }
   // (key, label, unit, JSON value)
   std::vector<std::tuple<std::string, std::string, std::string, std::string>> items = {
       {"preset", "zone preset", "", '"' + prm_.preset + '"'},

@@ -123,9 +123,8 @@ namespace {
 
 template <class Sim>
 auto sleeper_of(Sim& sim) -> decltype(&sim.meshes().front()) {
-  for (auto& m : sim.meshes())
-    if (m.name == SectionModel::kSleeperName) return &m;
-  return nullptr;
+  const int k = sim.mesh_index(SectionModel::kSleeperName);
+  return k < 0 ? nullptr : &sim.meshes()[k];
 }
 
 // The sleeper's load and position since the last judgement.

@@ -69,6 +69,12 @@ int Simulation::add_plane(const PlaneWall& wall) {
   return static_cast<int>(planes_.size()) - 1;
 }
 
+int Simulation::mesh_index(const std::string& name) const {
+  for (std::size_t k = 0; k < meshes_.size(); ++k)
+    if (meshes_[k].name == name) return static_cast<int>(k);
+  return -1;
+}
+
 int Simulation::add_mesh_body(MeshBody body) {
   body.update_world_mesh();
   body.part_force.assign(body.local.part_names.size(), Vec3::Zero());

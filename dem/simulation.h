@@ -108,6 +108,8 @@ class Simulation {
   std::vector<PlaneWall>& planes() { return planes_; }
   const std::vector<MeshBody>& meshes() const { return meshes_; }
   std::vector<MeshBody>& meshes() { return meshes_; }
+  // The index of the mesh body of that name in meshes(), or -1.
+  int mesh_index(const std::string& name) const;
 
   // PFC's estimate: min over bodies and degrees of freedom of sqrt(m/k) and sqrt(I/k_rot) with
   // the stiffness summed over the body's current contacts (a body with none: one contact).
