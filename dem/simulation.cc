@@ -677,8 +677,9 @@ void Simulation::apply_body_loads_and_integrate() {
       my_gravity_work += m * g.dot(dx);
       if (p_.is_clump[b]) {
         p_.L[b] += M * dt;
-        free_rotation(p_.q[b], p_.L[b], p_.inertia[b], dt);
-        p_.w[b] = angular_velocity(p_.q[b], p_.L[b], p_.inertia[b]);
+        // w = R I^-1 R^T L, with R^T L as the free rotation leaves it.
+        const Vec3 pi = free_rotation(p_.q[b], p_.L[b], p_.inertia[b], dt);
+        p_.w[b] = p_.q[b] * pi.cwiseQuotient(p_.inertia[b]);
       } else {
         p_.w[b] += M * (dt / p_.inertia[b][0]);
       }
