@@ -80,7 +80,8 @@ bool csr(const std::vector<int>& offsets, std::size_t rows, std::size_t entries)
 bool Simulation::consistent_lists(const EngineState& s, std::size_t nwalls) const {
   const auto ne = static_cast<std::size_t>(s.particles.num_elements());
   const std::size_t npairs = s.list_partners.size();
-  if (!csr(s.list_offsets, ne, npairs) || !indices_below(s.list_partners, ne) ||
+  if (!indices_below(s.particles.body, static_cast<std::size_t>(s.particles.num_bodies())) ||
+      !csr(s.list_offsets, ne, npairs) || !indices_below(s.list_partners, ne) ||
       s.pair_shear.size() != npairs || s.pair_fn.size() != npairs ||
       (!s.pair_roll.empty() && s.pair_roll.size() != npairs))
     return false;
@@ -102,8 +103,6 @@ bool Simulation::consistent_lists(const EngineState& s, std::size_t nwalls) cons
   }
   return true;
 }
-
-namespace {}  // namespace
 
 void Simulation::restore_engine_state(EngineState s) {
   // The input fixes the walls, meshes and bodies; the state must be of the same model.
@@ -131,10 +130,10 @@ void Simulation::restore_engine_state(EngineState s) {
   if (differ.first != saved_ids.end())
     mismatch("body ids: the first that differs is", std::to_string(*differ.first),
              std::to_string(*differ.second));
-  for (int e = 0; e < q.num_elements(); ++e)
-    if (q.material[e] < 0 || q.material[e] >= materials_.size())
-      mismatch("material of element " + std::to_string(e) + ":", std::to_string(q.material[e]),
-               "at most " + std::to_string(materials_.size() - 1));
+  const auto nmat = static_cast<std::size_t>(materials_.size());
+  if (!indices_below(q.material, nmat) || !indices_below(q.body_material, nmat))
+    throw InputError("the saved state names materials this model does not have (it has " +
+                     text(nmat) + "); valid: a state saved from a model built from the same input");
   const std::size_t nwalls = planes_.size() + meshes_.size();
   if (!consistent_lists(s, nwalls))
     throw InputError(

@@ -1,0 +1,110 @@
+// The complete state of a model (dem/engine_state.h): saved to HDF5 and restored into a model
+// built from the same input, the model steps on bit for bit as the original; a state of another
+// model is refused with one line.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "dem/clump_template.h"
+#include "dem/engine_state.h"
+#include "dem/hdf5_io.h"
+#include "dem/input_error.h"
+#include "dem/random_packing.h"
+#include "dem/triangle_mesh.h"
+#include "sim_builder.h"
+
+namespace trackbed::dem {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Balls and clumps with rolling resistance falling into an open box onto a plate pressed down by
+// a servo: every kind of contact history (pairs with rolling springs, planes, mesh slots) and a
+// mesh control that reads the last step's loads.
+std::unique_ptr<Simulation> model(int balls) {
+  Material m = testing::test_material(1e6, 0.5, 0.3, 0.2);
+  m.local_damping = 0.3;
+  MaterialTable table;
+  table.add(m);
+  Particles p;
+  RandomPackingSpec spec;
+  spec.lower = Vec3(0, 0, 0);
+  spec.upper = Vec3(0.3, 0.3, 0.3);
+  spec.count = balls;
+  spec.radius_min = 0.012;
+  spec.radius_max = 0.02;
+  spec.clump_fraction = 0.5;
+  const ClumpTemplate t =
+      make_clump_template("pair", {{Vec3(-0.005, 0, 0), 0.01}, {Vec3(0.006, 0, 0), 0.008}});
+  spec.clump_template = &t;
+  add_random_packing(spec, table, p);
+  SimulationSettings s;
+  s.time_step = 2e-5;
+  auto sim = std::make_unique<Simulation>(std::move(table), std::move(p), s);
+  testing::add_open_box(*sim, 0.3);
+  MeshBody plate = MeshBody::from_world_mesh(
+      "plate", make_box_mesh(Vec3(0.02, 0.02, 0.31), Vec3(0.28, 0.28, 0.33), true), 0, 0,
+      Vec3(0.15, 0.15, 0.32));
+  plate.dof[2].mode = DofMode::servo;
+  plate.dof[2].value = -20;
+  plate.dof[2].max_speed = 1.0;
+  sim->add_mesh_body(std::move(plate));
+  return sim;
+}
+
+TEST(EngineState, RestoredModelStepsOnBitForBit) {
+  auto a = model(120);
+  a->setup();
+  testing::run_for(*a, 0.45);  // the bed lands, the plate comes down onto it
+  ASSERT_GT(a->num_contacts(), 100);
+  ASSERT_GT(std::abs(a->meshes()[0].contact_force.z()), 1.0);
+  const fs::path file = fs::temp_directory_path() / "trackbed_test_engine_state.h5";
+  hdf5::write_file(file.string(), "state",
+                   [&](hid_t f) { write_engine_state(f, a->engine_state()); });
+
+  auto b = model(120);  // the same input, never set up
+  {
+    hdf5::Handle f(hdf5::open_for_reading(file.string(), "state"), H5Fclose, "open");
+    b->restore_engine_state(read_engine_state(f, file.string()));
+  }
+  fs::remove(file);
+  EXPECT_EQ(b->step_count(), a->step_count());
+  for (int i = 0; i < 3000; ++i) {
+    a->step();
+    b->step();
+  }
+  const Particles &pa = a->particles(), &pb = b->particles();
+  for (int i = 0; i < pa.num_bodies(); ++i) {
+    ASSERT_EQ(pa.x[i], pb.x[i]) << "body " << i;
+    ASSERT_EQ(pa.w[i], pb.w[i]) << "body " << i;
+  }
+  EXPECT_EQ(a->meshes()[0].x, b->meshes()[0].x);
+  EXPECT_EQ(a->meshes()[0].contact_force, b->meshes()[0].contact_force);
+  EXPECT_EQ(a->num_contacts(), b->num_contacts());
+  EXPECT_EQ(a->energy().total(), b->energy().total());
+  EXPECT_EQ(a->num_neighbor_builds(), b->num_neighbor_builds());
+}
+
+TEST(EngineState, StateOfAnotherModelIsRefused) {
+  auto a = model(120);
+  a->setup();
+  testing::run_for(*a, 0.01);
+  auto fewer = model(100);
+  try {
+    fewer->restore_engine_state(a->engine_state());
+    ADD_FAILURE() << "no error for the state of another model";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("bodies: 120 in the saved state, 100 in the model"),
+              std::string::npos)
+        << e.what();
+  }
+  // A damaged list (a partner out of range) is refused, not followed out of bounds.
+  EngineState broken = a->engine_state();
+  ASSERT_FALSE(broken.list_partners.empty());
+  broken.list_partners.back() = broken.particles.num_elements();
+  auto same = model(120);
+  EXPECT_THROW(same->restore_engine_state(std::move(broken)), InputError);
+}
+
+}  // namespace
+}  // namespace trackbed::dem
