@@ -186,49 +186,6 @@ void declare(ParameterHandler& prm) {
   prm.leave_subsection();
 }
 
-// Every parameter's value as read, one "subsection/name = value" line each, except those that do
-// not change what a run computes (where it writes, how often it reports or checkpoints, its
-// threads: a resumed run may set them anew).
-std::string fingerprint(const ParameterHandler& prm) {
-  std::ostringstream printed;
-  prm.print_parameters(printed, ParameterHandler::ShortPRM);
-  std::istringstream in(printed.str());
-  std::vector<std::string> path;
-  std::string line, out;
-  while (std::getline(in, line)) {
-    std::istringstream words(line);
-    std::string word;
-    words >> word;
-    if (word == "subsection") {
-      std::string name;
-      std::getline(words >> std::ws, name);
-      path.push_back(name);
-    } else if (word == "end" && !path.empty()) {
-      path.pop_back();
-    } else if (word == "set") {
-      std::string entry;
-      std::getline(words >> std::ws, entry);
-      entry = entry.substr(0, entry.find('#'));  // a "# default: ..." note
-      auto trim = [](std::string t) {
-        t.erase(0, t.find_first_not_of(" \t"));
-        t.erase(t.find_last_not_of(" \t") + 1);
-        return t;
-      };
-      const std::size_t eq = entry.find('=');
-      std::string key;
-      for (const auto& p : path) key += p + "/";
-      key += trim(entry.substr(0, eq));
-      static const char* const kIgnored[] = {"simulation/threads", "output/folder",
-                                             "output/progress interval",
-                                             "output/checkpoint interval"};
-      if (std::find(std::begin(kIgnored), std::end(kIgnored), key) != std::end(kIgnored)) continue;
-      const std::string value = eq == std::string::npos ? "" : trim(entry.substr(eq + 1));
-      out += key + " = " + value + "\n";
-    }
-  }
-  return out;
-}
-
 // "servo -3728 gain 1e-6 max 0.01" and friends.
 dem::DofControl parse_dof(const std::string& text, const std::string& where) {
   std::istringstream in(text);

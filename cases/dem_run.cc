@@ -3,7 +3,6 @@
 #include <omp.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -16,6 +15,7 @@
 #include <sstream>
 
 #include "cases/report_support.h"
+#include "cases/stop_signal.h"
 #include "dem/atomic_file.h"
 #include "dem/clump_template.h"
 #include "dem/input_error.h"
@@ -30,11 +30,6 @@ namespace fs = std::filesystem;
 using dem::Vec3;
 
 namespace {
-
-std::atomic<int> g_signal{0};
-extern "C" void on_signal(int s) {
-  g_signal = s;
-}
 
 int material_index(const dem::MaterialTable& table, const std::string& name,
                    const std::string& where) {
@@ -61,14 +56,8 @@ struct DemRun::Series {
   std::unique_ptr<dem::AtomicFile> walls, energy, bodies;
 };
 
-DemRun::DemRun(CaseParameters parameters) : prm_(std::move(parameters)) {
-  // TRACKBED_TEST_SIGNAL="STEP SIGNAL": the run sends itself SIGNAL after STEP, so that tests can
-  // interrupt (SIGTERM) or kill (SIGKILL) it at a chosen point.
-  if (const char* v = std::getenv("TRACKBED_TEST_SIGNAL")) {
-    std::istringstream in(v);
-    in >> test_signal_.first >> test_signal_.second;
-  }
-}
+DemRun::DemRun(CaseParameters parameters)
+    : prm_(std::move(parameters)), test_signal_(test_signal_from_environment()) {}
 DemRun::~DemRun() = default;
 
 void DemRun::build_model() {
@@ -470,8 +459,7 @@ void DemRun::remove_outputs_after(long step) {
 }
 
 int DemRun::loop_and_finish() {
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  catch_stop_signals();
   loop_start_ = last_progress_ = last_checkpoint_ = Clock::now();
   try {
     advance();
@@ -480,7 +468,7 @@ int DemRun::loop_and_finish() {
     finish("failed: " + std::string(e.what()));
     throw;
   }
-  const bool interrupted = g_signal != 0;
+  const bool interrupted = stop_signal() != 0;
   if (interrupted && prm_.checkpoint_interval > 0) write_checkpoint();
   finish(interrupted ? "interrupted" : "finished");
   if (interrupted && prm_.checkpoint_interval > 0)
@@ -518,7 +506,7 @@ void DemRun::write_checkpoint() {
 void DemRun::advance() {
   const double dt = sim_->time_step();
   auto running = [&] { return push_ ? !push_->finished() : sim_->step_count() < total_steps_; };
-  while (running() && g_signal == 0) {
+  while (running() && stop_signal() == 0) {
     if (sim_->step_count() == prm_.warmup_steps && prm_.warmup_steps > 0) {
       loop_start_ = Clock::now();
       loop_start_step_ = sim_->step_count();

@@ -72,6 +72,46 @@ std::string default_text(double v) {
   return s.str();
 }
 
+std::string fingerprint(const dealii::ParameterHandler& prm) {
+  std::ostringstream printed;
+  prm.print_parameters(printed, dealii::ParameterHandler::ShortPRM);
+  std::istringstream in(printed.str());
+  std::vector<std::string> path;
+  std::string line, out;
+  while (std::getline(in, line)) {
+    std::istringstream words(line);
+    std::string word;
+    words >> word;
+    if (word == "subsection") {
+      std::string name;
+      std::getline(words >> std::ws, name);
+      path.push_back(name);
+    } else if (word == "end" && !path.empty()) {
+      path.pop_back();
+    } else if (word == "set") {
+      std::string entry;
+      std::getline(words >> std::ws, entry);
+      entry = entry.substr(0, entry.find('#'));  // a "# default: ..." note
+      auto trim = [](std::string t) {
+        t.erase(0, t.find_first_not_of(" \t"));
+        t.erase(t.find_last_not_of(" \t") + 1);
+        return t;
+      };
+      const std::size_t eq = entry.find('=');
+      std::string key;
+      for (const auto& p : path) key += p + "/";
+      key += trim(entry.substr(0, eq));
+      static const char* const kIgnored[] = {"simulation/threads", "build/threads", "output/folder",
+                                             "output/progress interval",
+                                             "output/checkpoint interval"};
+      if (std::find(std::begin(kIgnored), std::end(kIgnored), key) != std::end(kIgnored)) continue;
+      const std::string value = eq == std::string::npos ? "" : trim(entry.substr(eq + 1));
+      out += key + " = " + value + "\n";
+    }
+  }
+  return out;
+}
+
 std::string one_line(const std::exception& e) {
   std::string text;
   if (const auto* d = dynamic_cast<const dealii::ExceptionBase*>(&e)) {

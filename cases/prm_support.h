@@ -24,6 +24,10 @@ std::array<double, 6> six_of(const dealii::ParameterHandler& prm, const std::str
 void declare_material_values(dealii::ParameterHandler& prm, const dem::Material& defaults,
                              const std::string& role = "");
 void read_material_values(const dealii::ParameterHandler& prm, dem::Material& m);
+// Every parameter's value as read, one "subsection/name = value" line each, except those that do
+// not change what a run or a build computes (where it writes, how often it reports or
+// checkpoints, its threads: a resumed one may set them anew). `trackbed resume` compares them.
+std::string fingerprint(const dealii::ParameterHandler& prm);
 // deal.II's exception text is several lines; users get the "additional information" part as
 // one line.
 std::string one_line(const std::exception& e);

@@ -140,6 +140,10 @@ void declare(ParameterHandler& prm) {
   prm.declare_entry("folder", "results/samples/section", Anything(),
                     "Results folder (relative to the working directory)");
   prm.declare_entry("progress interval", "5", Double(0), "Wall seconds between progress lines");
+  prm.declare_entry("checkpoint interval", "600", Double(0),
+                    "Wall seconds between checkpoints of a conversion to clumps (checkpoint.h5, "
+                    "for 'trackbed resume'); one is also written when the build is interrupted; "
+                    "0 = none");
   prm.declare_entry("vtu", "true", Bool(), "Write ParaView files of the finished sample");
   prm.declare_entry("plot", "true", Bool(), "Write grading.png and sample.png (matplotlib)");
   prm.leave_subsection();
@@ -278,9 +282,11 @@ SampleParameters read_sample_file(const std::string& path) {
   prm.enter_subsection("output");
   p.output_folder = prm.get("folder");
   p.progress_interval = prm.get_double("progress interval");
+  p.checkpoint_interval = prm.get_double("checkpoint interval");
   p.vtu = prm.get_bool("vtu");
   p.plot = prm.get_bool("plot");
   prm.leave_subsection();
+  p.fingerprint = fingerprint(prm);
   return p;
 }
 

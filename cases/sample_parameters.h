@@ -26,9 +26,11 @@ struct SampleParameters {
   dem::MassSource mass_from = dem::MassSource::surface;
   dem::ConversionSettings conversion;
   int threads = 0;
+  std::string fingerprint;  // fingerprint() of the parameters, for 'trackbed resume'
   // output
   std::string output_folder = "results/samples/section";
   double progress_interval = 5;
+  double checkpoint_interval = 600;  // wall s between checkpoints of a conversion; 0: none
   bool vtu = true, plot = true;
 };
 

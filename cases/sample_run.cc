@@ -5,12 +5,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <csignal>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
 
 #include "cases/report_support.h"
+#include "cases/run_checkpoint.h"
+#include "cases/stop_signal.h"
 #include "dem/atomic_file.h"
 #include "dem/clump_conversion.h"
 #include "dem/input_error.h"
@@ -31,6 +34,9 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
 }
 
+// Thrown at a check of the conversion when a signal asks the build to stop.
+struct BuildInterrupted {};
+
 std::string number(double v) {
   if (!std::isfinite(v)) return "null";
   std::ostringstream s;
@@ -40,7 +46,8 @@ std::string number(double v) {
 
 }  // namespace
 
-SampleRun::SampleRun(SampleParameters parameters) : prm_(std::move(parameters)) {}
+SampleRun::SampleRun(SampleParameters parameters)
+    : prm_(std::move(parameters)), test_signal_(test_signal_from_environment()) {}
 
 void SampleRun::connect(dem::StageRunner& runner) {
   runner.progress_seconds = prm_.progress_interval;
@@ -65,7 +72,7 @@ dem::Sample SampleRun::build_ball_sample() {
   return sample;
 }
 
-dem::Sample SampleRun::convert(const dem::Sample& base) {
+dem::Sample SampleRun::convert(const dem::Sample& base, dem::ConversionCheckpoint* from) {
   // A preset's zone is that of the base sample's own section.
   const std::string text =
       prm_.preset == "custom" ? prm_.zone_text : preset_zone(prm_.preset, dem::section_of(base));
@@ -77,7 +84,12 @@ dem::Sample SampleRun::convert(const dem::Sample& base) {
             << templates.size() << " templates " << prm_.template_setting << std::endl;
   dem::ClumpConversion conversion(base, zone, std::move(templates), prm_.conversion);
   connect(conversion.runner());
-  dem::Sample sample = conversion.run();
+  conversion.runner().at_check = [&](const dem::StagePoint& at) { at_check(conversion, at); };
+  // From here on Ctrl-C and SIGTERM end the build at the conversion's next check, with a
+  // checkpoint.
+  catch_stop_signals();
+  last_checkpoint_ = std::chrono::steady_clock::now();
+  dem::Sample sample = conversion.run(from);
   const dem::ConversionReport& r = conversion.report();
   stages_.insert(stages_.end(), r.stages.begin(), r.stages.end());
   notes_.push_back({"converted_balls", number(r.converted)});
@@ -87,25 +99,82 @@ dem::Sample SampleRun::convert(const dem::Sample& base) {
   return sample;
 }
 
+void SampleRun::at_check(const dem::ClumpConversion& conversion, const dem::StagePoint& at) {
+  if (test_signal_.first >= 0 && conversion.simulation().step_count() >= test_signal_.first) {
+    test_signal_.first = -1;
+    std::raise(test_signal_.second);
+  }
+  const bool stop = stop_signal() != 0;
+  const bool checkpoints = prm_.checkpoint_interval > 0;
+  if (checkpoints && (stop || seconds_since(last_checkpoint_) >= prm_.checkpoint_interval))
+    write_checkpoint(conversion.checkpoint(at));
+  if (stop) throw BuildInterrupted{};
+}
+
+void SampleRun::write_checkpoint(dem::ConversionCheckpoint conversion) {
+  SampleCheckpoint c;
+  c.sample_file = fs::absolute(prm_.file).lexically_normal().string();
+  c.fingerprint = prm_.fingerprint;
+  c.version = TRACKBED_VERSION;
+  c.threads = omp_get_max_threads();
+  c.wall_seconds = earlier_wall_seconds_ + seconds_since(start_);
+  c.stages = stages_;
+  c.notes = notes_;
+  c.history = history_;
+  c.conversion = std::move(conversion);
+  write_sample_checkpoint(out_ + "/" + kCheckpointFile, c);
+  last_checkpoint_ = std::chrono::steady_clock::now();
+}
+
 int SampleRun::run() {
+  return build(nullptr);
+}
+
+int SampleRun::resume(SampleCheckpoint checkpoint) {
+  history_ = std::move(checkpoint.history);
+  stages_ = std::move(checkpoint.stages);
+  notes_ = std::move(checkpoint.notes);
+  earlier_wall_seconds_ = checkpoint.wall_seconds;
+  const dem::ConversionCheckpoint& c = checkpoint.conversion;
+  std::cout << "trackbed: resuming " << prm_.file << " in " << prm_.output_folder << " in its "
+            << (c.stage == 0 ? "clump growth" : "equilibrium") << " stage at step " << c.point.steps
+            << " (t = " << c.engine.time << " s)" << std::endl;
+  return build(&checkpoint);
+}
+
+int SampleRun::build(SampleCheckpoint* from) {
   start_ = std::chrono::steady_clock::now();
   if (prm_.threads > 0) omp_set_num_threads(prm_.threads);
   out_ = prm_.output_folder;
   fs::create_directories(fs::path(out_) / "history");
-  if (prm_.preset == "all-ball") {
-    build_ball_sample();
-  } else if (!prm_.base_sample.empty()) {
-    const dem::Sample base = dem::read_sample(prm_.base_sample);
-    if (base.particles.num_clumps() > 0 && base.num_balls() == 0)
-      throw dem::InputError(prm_.base_sample +
-                            ": the base sample has no balls to convert; "
-                            "valid: a ball sample (zone preset all-ball)");
-    convert(base);
-  } else {
-    const dem::Sample base = build_ball_sample();
-    dem::write_sample(out_ + "/base.h5", base);
-    convert(base);
+  dem::ConversionCheckpoint* resumed = from ? &from->conversion : nullptr;
+  try {
+    if (prm_.preset == "all-ball") {
+      build_ball_sample();
+    } else if (!prm_.base_sample.empty()) {
+      const dem::Sample base = dem::read_sample(prm_.base_sample);
+      if (base.particles.num_clumps() > 0 && base.num_balls() == 0)
+        throw dem::InputError(prm_.base_sample +
+                              ": the base sample has no balls to convert; "
+                              "valid: a ball sample (zone preset all-ball)");
+      convert(base, resumed);
+    } else if (from) {
+      convert(dem::read_sample(out_ + "/base.h5"), resumed);  // built by the interrupted run
+    } else {
+      const dem::Sample base = build_ball_sample();
+      dem::write_sample(out_ + "/base.h5", base);
+      convert(base, nullptr);
+    }
+  } catch (const BuildInterrupted&) {
+    std::cout << "trackbed: interrupted; "
+              << (prm_.checkpoint_interval > 0
+                      ? "continue with: trackbed resume " + out_
+                      : std::string("no checkpoint written (output/checkpoint interval = 0)"))
+              << std::endl;
+    return 130;
   }
+  // A finished build needs no checkpoint (and it is the largest file of the folder).
+  fs::remove(fs::path(out_) / kCheckpointFile);
   std::cout << "trackbed: results in " << out_ << std::endl;
   return 0;
 }
@@ -231,7 +300,7 @@ void SampleRun::write_summary(const dem::Sample& sample, const dem::Simulation& 
       {"time_step_s", "time step (last stage)", "s", number(sim.time_step())},
       {"steps", "steps (all stages)", "", number(steps)},
       {"simulated_time_s", "simulated time (all stages)", "s", number(simulated)},
-      {"wall_time_s", "wall time", "s", number(seconds_since(start_))},
+      {"wall_time_s", "wall time", "s", number(earlier_wall_seconds_ + seconds_since(start_))},
       {"threads", "threads", "", number(sim.team_size())},
       {"peak_memory_mb", "peak resident memory", "MB", number(usage.ru_maxrss / 1024.0)},
   };

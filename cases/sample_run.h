@@ -8,12 +8,17 @@
 //                                   sleeper's height and load per check
 //   particles.vtu, contacts.vtu, walls.vtu, sample.pvd   ParaView
 //   sample.png                      a cross-section and a plan view drawn from particles.vtu
+//   checkpoint.h5                   while a conversion to clumps runs: the state to resume from
+//                                   (sample_checkpoint.h), every `output/checkpoint interval` of
+//                                   wall time and on Ctrl-C or SIGTERM; removed when done
 #pragma once
 
 #include <chrono>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include "cases/sample_checkpoint.h"
 #include "cases/sample_parameters.h"
 #include "dem/sample.h"
 #include "dem/settling.h"
@@ -23,12 +28,19 @@ namespace trackbed::cases {
 class SampleRun {
  public:
   explicit SampleRun(SampleParameters parameters);
-  // Returns the process exit status: 0 done.
+  // Returns the process exit status: 0 done, 130 interrupted by a signal.
   int run();
+  // Continues a build interrupted in its conversion from its checkpoint, in its results folder.
+  int resume(SampleCheckpoint checkpoint);
 
  private:
+  int build(SampleCheckpoint* from);
   dem::Sample build_ball_sample();
-  dem::Sample convert(const dem::Sample& base);
+  dem::Sample convert(const dem::Sample& base, dem::ConversionCheckpoint* from);
+  // At every check of the conversion: a checkpoint when one is due or a signal came, and the
+  // build's end on a signal.
+  void at_check(const dem::ClumpConversion& conversion, const dem::StagePoint& at);
+  void write_checkpoint(dem::ConversionCheckpoint conversion);
   void connect(dem::StageRunner& runner);
   void write_outputs(const dem::Sample& sample, const dem::Simulation& sim,
                      const dem::Sample* base);
@@ -44,7 +56,9 @@ class SampleRun {
   // Items of the summary that only the build or the conversion knows.
   std::vector<std::pair<std::string, std::string>> notes_;
   double max_grading_error_ = 0, max_grading_error_equivalent_ = 0;
-  std::chrono::steady_clock::time_point start_;
+  std::chrono::steady_clock::time_point start_, last_checkpoint_;
+  double earlier_wall_seconds_ = 0;          // a resumed build's, up to its checkpoint
+  std::pair<long, int> test_signal_{-1, 0};  // step, signal (TRACKBED_TEST_SIGNAL)
 };
 
 }  // namespace trackbed::cases

@@ -17,6 +17,7 @@
 #include "cases/case_parameters.h"
 #include "cases/dem_run.h"
 #include "cases/run_checkpoint.h"
+#include "cases/sample_checkpoint.h"
 #include "cases/sample_parameters.h"
 #include "cases/sample_run.h"
 #include "dem/input_error.h"
@@ -74,7 +75,7 @@ std::string parse_options(const std::vector<std::string>& args, bool with_mode, 
   return "";
 }
 
-// The first line that differs between two fingerprints of a case (CaseParameters::fingerprint).
+// The first line that differs between two fingerprints of a parameter file (fingerprint()).
 std::string first_difference(const std::string& then, const std::string& now) {
   std::istringstream a(then), b(now);
   std::string la, lb;
@@ -86,6 +87,33 @@ std::string first_difference(const std::string& then, const std::string& now) {
       return "'" + (more_a ? la : std::string("(nothing)")) + "' then, '" +
              (more_b ? lb : std::string("(nothing)")) + "' now";
   }
+}
+
+// Throws InputError when the parameter file `file` (a case or sample file: `what`) that the
+// checkpoint `path` names is gone.
+void require_file(const std::string& path, const std::string& file, const std::string& what) {
+  if (!std::filesystem::is_regular_file(file))
+    throw trackbed::dem::InputError(path + ": the " + what + " " + file +
+                                    " is missing; valid: the " + what +
+                                    " it started from, where it was");
+}
+
+// Throws InputError when the file's parameters (fingerprint `now`) differ from those it started
+// with (`then`), naming the first that differs.
+void require_unchanged(const std::string& file, const std::string& then, const std::string& now) {
+  const std::string changed = first_difference(then, now);
+  if (!changed.empty())
+    throw trackbed::dem::InputError(file + " has changed since it started: " + changed +
+                                    "; valid: the file as it was, or a new start");
+}
+
+// The threads of a resumed run or build: those asked for, else the checkpoint's.
+int resumed_threads(int asked, int saved) {
+  const int threads = asked > 0 ? asked : saved;
+  if (threads != saved)
+    std::cout << "trackbed: resuming on " << threads << " threads where it ran on " << saved
+              << ": the results will not be bit for bit those of an uninterrupted one" << std::endl;
+  return threads;
 }
 
 int resume(const std::vector<std::string>& args) {
@@ -110,25 +138,29 @@ int resume(const std::vector<std::string>& args) {
     const std::string text((std::istreambuf_iterator<char>(summary)), {});
     if (text.find("\"status\": \"finished\"") != std::string::npos)
       return fail(dir + ": the run finished; there is nothing to resume");
+    if (fs::is_regular_file(fs::path(dir) / "sample.h5"))
+      return fail(dir + ": the sample build finished; there is nothing to resume");
     return fail(path +
-                ": no such file; valid: the results folder of a run interrupted after its first "
-                "checkpoint (output/checkpoint interval, and on Ctrl-C or SIGTERM)");
+                ": no such file; valid: the results folder of a run or a conversion to clumps "
+                "interrupted after its first checkpoint (output/checkpoint interval, and on "
+                "Ctrl-C or SIGTERM)");
+  }
+  if (is_sample_checkpoint(path)) {
+    SampleCheckpoint checkpoint = read_sample_checkpoint(path);
+    require_file(path, checkpoint.sample_file, "sample file");
+    SampleParameters prm = read_sample_file(checkpoint.sample_file);
+    require_unchanged(checkpoint.sample_file, checkpoint.fingerprint, prm.fingerprint);
+    prm.output_folder = dir;
+    prm.threads = resumed_threads(threads, checkpoint.threads);
+    SampleRun run(std::move(prm));
+    return run.resume(std::move(checkpoint));
   }
   RunCheckpoint checkpoint = read_run_checkpoint(path);
-  if (!fs::is_regular_file(checkpoint.case_file))
-    return fail(path + ": the run's case file " + checkpoint.case_file +
-                " is missing; valid: the case file the run started from, where it was");
+  require_file(path, checkpoint.case_file, "case file");
   CaseParameters prm = read_case_file(checkpoint.case_file);
-  const std::string changed = first_difference(checkpoint.case_fingerprint, prm.fingerprint);
-  if (!changed.empty())
-    return fail(checkpoint.case_file + " has changed since the run started: " + changed +
-                "; valid: the case as it was, or a new run with trackbed run");
+  require_unchanged(checkpoint.case_file, checkpoint.case_fingerprint, prm.fingerprint);
   prm.output_folder = dir;
-  prm.threads = threads > 0 ? threads : checkpoint.threads;
-  if (prm.threads != checkpoint.threads)
-    std::cout << "trackbed: resuming on " << prm.threads << " threads where the run had "
-              << checkpoint.threads
-              << ": the results will not be bit for bit those of an uninterrupted run" << std::endl;
+  prm.threads = resumed_threads(threads, checkpoint.threads);
   DemRun run(std::move(prm));
   return run.resume(std::move(checkpoint));
 }

@@ -57,10 +57,10 @@ ClumpConversion::ClumpConversion(const Sample& base, ZonePtr zone,
         "by 'trackbed build-sample'");
 }
 
-Sample ClumpConversion::run() {
+Sample ClumpConversion::run(ConversionCheckpoint* from) {
   replace();
-  grow();
-  settle();
+  grow(from);
+  settle(from && from->stage == 1 ? from : nullptr);
   std::vector<std::string> names;
   for (const auto& t : templates_) names.push_back(t.clump.name);
   Sample out = model_.to_sample(*sim_, shape_of_id_, sieve_size_of_id_, names);
@@ -150,7 +150,17 @@ void ClumpConversion::set_growth(double fraction) {
   }
 }
 
-void ClumpConversion::grow() {
+ConversionCheckpoint ClumpConversion::checkpoint(const StagePoint& at) const {
+  ConversionCheckpoint c;
+  c.stage = stage_;
+  c.point = at;
+  if (stage_ == 1 && settled_.memory) c.criterion_memory = settled_.memory();
+  c.done = report_.stages;
+  c.engine = sim_->engine_state();
+  return c;
+}
+
+void ClumpConversion::grow(ConversionCheckpoint* from) {
   const StageMaterials growing{
       settings_.growth_friction_factor, settings_.growth_friction_factor, {}};
   // The step must suit the grown clumps: the critical step of the full-size model, whose
@@ -192,27 +202,47 @@ void ClumpConversion::grow() {
   for (const auto& c : base_.contacts.walls)
     if (unchanged(c.element)) carried.walls.push_back(c);
   sim_->restore_contact_state(carried);
+  // Interrupted in the equilibrium stage, the clumps are grown: settle() restores the state.
+  if (from && from->stage == 1) {
+    report_.stages = from->done;
+    return;
+  }
+  StagePoint start;
+  if (from) {
+    sim_->restore_engine_state(std::move(from->engine));
+    start = from->point;
+  }
 
+  stage_ = 0;
   const int interval = settings_.growth_interval;
   const long steps = static_cast<long>(std::ceil(settings_.growth_time / sim_->time_step()));
-  report_.stages.push_back(
-      runner_.run_for(*sim_, "clump growth", settings_.growth_time, [&](long step) {
+  report_.stages.push_back(runner_.run_for(
+      *sim_, "clump growth", settings_.growth_time,
+      [&](long step) {
         if (step % interval != 0) return;
         set_growth(static_cast<double>(step + interval) / steps);
         sim_->particles_changed();
-      }));
+      },
+      start));
   set_growth(1);
   sim_->particles_changed();
 }
 
-void ClumpConversion::settle() {
+void ClumpConversion::settle(ConversionCheckpoint* from) {
   sim_->set_materials(model_.material_table());
-  SettleCriterion c;
-  c.max_time = settings_.max_stage_time;
-  c.ratio = settings_.equilibrium_ratio;
-  model_.require_seated_sleeper(c);
-  model_.release_sleeper_when_carried(c);
-  report_.stages.push_back(runner_.settle(*sim_, "equilibrium", c));
+  settled_ = SettleCriterion{};
+  settled_.max_time = settings_.max_stage_time;
+  settled_.ratio = settings_.equilibrium_ratio;
+  model_.require_seated_sleeper(settled_);
+  model_.release_sleeper_when_carried(settled_);
+  StagePoint start;
+  if (from) {
+    sim_->restore_engine_state(std::move(from->engine));
+    settled_.restore_memory(from->criterion_memory);
+    start = from->point;
+  }
+  stage_ = 1;
+  report_.stages.push_back(runner_.settle(*sim_, "equilibrium", settled_, start));
 }
 
 }  // namespace trackbed::dem

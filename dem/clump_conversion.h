@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "dem/engine_state.h"
 #include "dem/sample.h"
 #include "dem/section_model.h"
 #include "dem/settling.h"
@@ -47,6 +48,17 @@ struct ConversionReport {
   double start_scale_min = 1, start_scale_mean = 1;  // growth start factors
 };
 
+// Where an interrupted conversion stands, at a check of one of its stages, with the engine's
+// state there: enough to go on as the uninterrupted conversion would (checkpoints,
+// cases/sample_checkpoint.h).
+struct ConversionCheckpoint {
+  int stage = 0;  // 0 growth, 1 equilibrium
+  StagePoint point;
+  std::vector<double> criterion_memory;  // the equilibrium stage's (SettleCriterion::memory)
+  std::vector<StageReport> done;         // the stages finished before
+  EngineState engine;
+};
+
 class ClumpConversion {
  public:
   // The section and materials are those the base sample was built with (its info lines).
@@ -56,7 +68,11 @@ class ClumpConversion {
   StageRunner& runner() { return runner_; }
   // The model of the finished sample (after run()), for its outputs.
   const Simulation& simulation() const { return *sim_; }
-  Sample run();
+  // Converts; from the checkpoint of an interrupted conversion of the same input when given (the
+  // replacement, deterministic, is made again; the stage goes on from the saved state).
+  Sample run(ConversionCheckpoint* from = nullptr);
+  // The conversion's state at a check of its running stage, for runner().at_check.
+  ConversionCheckpoint checkpoint(const StagePoint& at) const;
   const ConversionReport& report() const { return report_; }
 
  private:
@@ -66,8 +82,8 @@ class ClumpConversion {
     double start_scale;
   };
   void replace();
-  void grow();
-  void settle();
+  void grow(ConversionCheckpoint* from);
+  void settle(ConversionCheckpoint* from);
   void set_growth(double fraction);
 
   const Sample& base_;
@@ -85,6 +101,8 @@ class ClumpConversion {
   std::map<std::int64_t, double> start_scale_of_id_;
   std::vector<Growing> growing_;
   std::unique_ptr<Simulation> sim_;
+  int stage_ = 0;            // running: 0 growth, 1 equilibrium
+  SettleCriterion settled_;  // the equilibrium stage's criterion
 };
 
 }  // namespace trackbed::dem

@@ -160,6 +160,17 @@ void SectionModel::require_seated_sleeper(SettleCriterion& c, double max_speed) 
     const double mean_speed = (m->x - i.start).norm() / (sim.time() - i.start_time);
     return std::abs(mean_load - held) <= 0.01 * std::abs(held) && mean_speed < max_speed;
   };
+  c.memory = [interval] {
+    const SeatingInterval& i = *interval;
+    return std::vector<double>{i.load_sum,  double(i.steps), i.start.x(),
+                               i.start.y(), i.start.z(),     i.start_time};
+  };
+  c.restore_memory = [interval](const std::vector<double>& v) {
+    if (v.size() != 6)
+      throw InputError("the saved seating interval has " + std::to_string(v.size()) +
+                       " numbers; valid: 6 (a checkpoint written by this version)");
+    *interval = {v[0], std::lround(v[1]), Vec3(v[2], v[3], v[4]), v[5]};
+  };
 }
 
 void SectionModel::release_sleeper_when_carried(SettleCriterion& c) const {

@@ -29,8 +29,8 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 
 }  // namespace
 
-void StageRunner::check(const Simulation& sim, const std::string& stage, long steps, double ratio,
-                        Clock::time_point start, double max_time) {
+void StageRunner::check(const Simulation& sim, const std::string& stage, long steps, long first,
+                        double ratio, Clock::time_point start, double max_time) {
   const double t = steps * sim.time_step();
   const double ke = sim.particles().kinetic_energy();
   const bool sleeper = !sim.meshes().empty();
@@ -41,7 +41,7 @@ void StageRunner::check(const Simulation& sim, const std::string& stage, long st
   if (!on_progress || seconds_since(last_progress_) < progress_seconds) return;
   last_progress_ = Clock::now();
   const double wall = seconds_since(start);
-  const double rate = wall > 0 ? steps / wall : 0;
+  const double rate = wall > 0 ? (steps - first) / wall : 0;
   char line[256];
   std::snprintf(line, sizeof line,
                 "%s: t = %.4f s | step %ld | %.0f steps/s | %.2e sphere-steps/s | ratio %.2e | "
@@ -51,47 +51,53 @@ void StageRunner::check(const Simulation& sim, const std::string& stage, long st
   on_progress(line);
 }
 
-StageReport StageRunner::settle(Simulation& sim, const std::string& stage,
-                                const SettleCriterion& c) {
+StageReport StageRunner::settle(Simulation& sim, const std::string& stage, const SettleCriterion& c,
+                                const StagePoint& from) {
   const auto start = Clock::now();
   if (!sim.is_set_up()) sim.setup();
   const long max_steps = static_cast<long>(std::ceil(c.max_time / sim.time_step()));
   const long min_steps = static_cast<long>(std::ceil(c.min_time / sim.time_step()));
-  long steps = 0;
-  int below = 0;
+  StagePoint at = from;
+  auto wall = [&] { return from.wall_time + seconds_since(start); };
   double ratio = NAN;
-  while (steps < max_steps) {
-    for (int k = 0; k < c.check_interval && steps < max_steps; ++k, ++steps) {
+  while (at.steps < max_steps) {
+    for (int k = 0; k < c.check_interval && at.steps < max_steps; ++k, ++at.steps) {
       sim.step();
       if (c.each_step) c.each_step(sim);
     }
     sim.check_finite();
     ratio = sim.unbalanced_force_ratio();
-    check(sim, stage, steps, ratio, start, c.max_time);
-    if (steps < min_steps) continue;
-    below = ratio <= c.ratio && (!c.also || c.also(sim)) ? below + 1 : 0;
-    if (below >= c.confirmations)
-      return report_of(sim, stage, steps, seconds_since(start), ratio, true);
+    if (at.steps >= min_steps)
+      at.below = ratio <= c.ratio && (!c.also || c.also(sim)) ? at.below + 1 : 0;
+    check(sim, stage, at.steps, from.steps, ratio, start, c.max_time);
+    if (at.below >= c.confirmations) return report_of(sim, stage, at.steps, wall(), ratio, true);
+    at.wall_time = wall();
+    if (at_check) at_check(at);
   }
-  return report_of(sim, stage, steps, seconds_since(start), ratio, false);
+  return report_of(sim, stage, at.steps, wall(), ratio, false);
 }
 
 StageReport StageRunner::run_for(Simulation& sim, const std::string& stage, double duration,
-                                 const std::function<void(long)>& each_step, int check_interval) {
+                                 const std::function<void(long)>& each_step, const StagePoint& from,
+                                 int check_interval) {
   const auto start = Clock::now();
   if (!sim.is_set_up()) sim.setup();
   const long n = static_cast<long>(std::ceil(duration / sim.time_step()));
+  StagePoint at = from;
+  auto wall = [&] { return from.wall_time + seconds_since(start); };
   double ratio = NAN;
-  for (long steps = 0; steps < n;) {
-    for (int k = 0; k < check_interval && steps < n; ++k, ++steps) {
-      if (each_step) each_step(steps);
+  while (at.steps < n) {
+    for (int k = 0; k < check_interval && at.steps < n; ++k, ++at.steps) {
+      if (each_step) each_step(at.steps);
       sim.step();
     }
     sim.check_finite();
     ratio = sim.unbalanced_force_ratio();
-    check(sim, stage, steps, ratio, start, duration);
+    check(sim, stage, at.steps, from.steps, ratio, start, duration);
+    at.wall_time = wall();
+    if (at_check && at.steps < n) at_check(at);
   }
-  return report_of(sim, stage, n, seconds_since(start), ratio, true);
+  return report_of(sim, stage, n, wall(), ratio, true);
 }
 
 }  // namespace trackbed::dem

@@ -27,6 +27,17 @@ struct SettleCriterion {
   // wall's control.
   std::function<bool(const Simulation&)> also;
   std::function<void(Simulation&)> each_step;
+  // What `also` and `each_step` remember from one check to the next, as numbers, and its
+  // restoring (empty: nothing), for checkpoints: a resumed stage judges as the uninterrupted one.
+  std::function<std::vector<double>()> memory;
+  std::function<void(const std::vector<double>&)> restore_memory;
+};
+
+// Where a stage stands at one of its checks: what it needs to go on from there (checkpoints).
+struct StagePoint {
+  long steps = 0;        // done in the stage
+  int below = 0;         // checks in a row that met the criterion (settle)
+  double wall_time = 0;  // s spent in the stage up to here
 };
 
 struct StageReport {
@@ -59,17 +70,26 @@ class StageRunner {
   std::function<void(const SettleSample&)> on_sample;
   std::function<void(const std::string&)> on_progress;
   double progress_seconds = 5;
+  // Called at every check that does not end the stage, after the history row, with the stage's
+  // point there: where a caller writes checkpoints, and stops the stage by throwing (an
+  // interrupted build).
+  std::function<void(const StagePoint&)> at_check;
 
-  // Steps `sim` (set up by the caller or here) until the criterion holds or max_time passes.
-  StageReport settle(Simulation& sim, const std::string& stage, const SettleCriterion& c);
+  // Steps `sim` (set up by the caller or here) until the criterion holds or max_time passes;
+  // from a point of an earlier, interrupted run of the same stage when given.
+  StageReport settle(Simulation& sim, const std::string& stage, const SettleCriterion& c,
+                     const StagePoint& from = {});
   // Steps `sim` for a fixed simulated time, calling `each_step(step index)` before every step
   // (a growth schedule, a moving boundary), with the same history and progress.
   StageReport run_for(Simulation& sim, const std::string& stage, double duration,
-                      const std::function<void(long)>& each_step, int check_interval = 500);
+                      const std::function<void(long)>& each_step, const StagePoint& from = {},
+                      int check_interval = 500);
 
  private:
   using Clock = std::chrono::steady_clock;
-  void check(const Simulation& sim, const std::string& stage, long steps, double ratio,
+  // The history row and the progress line (its rate over the steps of this process, from
+  // `first`).
+  void check(const Simulation& sim, const std::string& stage, long steps, long first, double ratio,
              Clock::time_point start, double max_time);
   Clock::time_point last_progress_{};
 };

@@ -1,7 +1,8 @@
 // `trackbed build-sample` as a user runs it: a ball sample of a small section, its conversion to
-// clumps in a zone (same volume and mass per stone, grading kept), a case loading the sample
-// with its contact springs, the shipped scaled-down section against stored figures, and the
-// one-line errors of bad sample files.
+// clumps in a zone (same volume and mass per stone, grading kept), a conversion interrupted and
+// resumed, a case loading the sample with its contact springs, the shipped scaled-down section
+// against stored figures, and the one-line errors of bad sample files.
+#include <csignal>
 #include <map>
 #include <regex>
 
@@ -38,6 +39,9 @@ class BuildSample : public Cli {
   void check_ball_sample(const fs::path& out);
   // Half by height converted to clumps: same volume and mass per stone, grading kept.
   void check_conversion(const fs::path& base);
+  // A conversion stopped (SIGTERM in the growth, SIGKILL in the equilibrium) and resumed ends
+  // as the uninterrupted one; what cannot be resumed is said in one line.
+  void check_resumed_conversion(const fs::path& base);
   // A case loads the sample with its contact springs.
   void check_case_loading(const fs::path& base);
 };
@@ -48,6 +52,7 @@ TEST_F(BuildSample, BallSampleConversionAndACaseLoadingIt) {
   const fs::path out = ball_sample();
   check_ball_sample(out);
   check_conversion(out);
+  check_resumed_conversion(out);
   check_case_loading(out);
 }
 
@@ -132,6 +137,87 @@ void BuildSample::check_conversion(const fs::path& base) {
     ++rows;
   }
   EXPECT_EQ(rows, 6);
+}
+
+void BuildSample::check_resumed_conversion(const fs::path& base) {
+  // Settles to its criterion (sleeper seated) after 43,500 steps of the equilibrium stage, which
+  // follows 5,340 steps of growth.
+  auto sample_file = [&](const std::string& extra) {
+    return write("resumable.prm",
+                 "subsection zone\n  set preset = half-by-height\n  set base sample = " +
+                     (base / "sample.h5").string() + "\n  set templates = " + TRACKBED_SOURCE_DIR +
+                     "/cases/templates/ballast/library.csv\n  set growth time = 0.02\n"
+                     "  set equilibrium ratio = 0.05\n  set maximum settling time = 0.3\nend\n"
+                     "subsection build\n  set threads = 1\nend\n"
+                     "subsection output\n  set folder = " +
+                     (dir_ / "resumable").string() + "\n  set plot = false\n" + extra + "end\n");
+  };
+  auto run_signalled = [&](const fs::path& prm, long step, int signal) {
+    setenv("TRACKBED_TEST_SIGNAL", (std::to_string(step) + " " + std::to_string(signal)).c_str(),
+           1);
+    const Result r = run("build-sample " + prm.string());
+    unsetenv("TRACKBED_TEST_SIGNAL");
+    return r;
+  };
+  const fs::path out = dir_ / "resumable", whole = dir_ / "whole";
+  auto expect_same_sample = [&] {
+    EXPECT_TRUE(slurp(out / "history/build.csv") == slurp(whole / "history/build.csv"));
+    EXPECT_EQ(summary_number(out, "steps"), summary_number(whole, "steps"));
+    EXPECT_FALSE(fs::exists(out / "checkpoint.h5"));  // a finished build needs none
+    const Sample a = read_sample((whole / "sample.h5").string());
+    const Sample b = read_sample((out / "sample.h5").string());
+    ASSERT_EQ(a.particles.num_bodies(), b.particles.num_bodies());
+    for (int i = 0; i < a.particles.num_bodies(); ++i) {
+      EXPECT_EQ(a.particles.x[i], b.particles.x[i]) << "body " << i;
+      EXPECT_EQ(a.particles.v[i], b.particles.v[i]) << "body " << i;
+    }
+    EXPECT_EQ(a.meshes.front().x, b.meshes.front().x);
+  };
+  fs::path prm = sample_file("");
+  const Result r = run("build-sample " + prm.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  ASSERT_GT(summary_number(out, "steps"), 30000);
+  EXPECT_NE(slurp(out / "summary.txt").find("equilibrium"), std::string::npos);
+  fs::rename(out, whole);
+
+  // SIGTERM in the growth: a checkpoint, exit code 130 and how to go on.
+  const Result stopped = run_signalled(prm, 3000, SIGTERM);
+  EXPECT_EQ(stopped.code, 130) << stopped.err;
+  EXPECT_NE(stopped.out.find("trackbed resume " + out.string()), std::string::npos) << stopped.out;
+  ASSERT_TRUE(fs::exists(out / "checkpoint.h5"));
+  EXPECT_FALSE(fs::exists(out / "sample.h5"));
+  const Result resumed = run("resume " + out.string());
+  ASSERT_EQ(resumed.code, 0) << resumed.err;
+  EXPECT_NE(resumed.out.find("clump growth stage at step 3000"), std::string::npos) << resumed.out;
+  expect_same_sample();
+  expect_error(run("resume " + out.string()), {"the sample build finished"});
+  fs::remove_all(out);
+
+  // In the equilibrium (it starts at step 5,340), a checkpoint every millisecond, so one at every
+  // check (500 steps): killed (SIGKILL) at the check after step 47,340, whose checkpoint holds
+  // the sleeper's load and motion since the check before (the ratio was above the criterion
+  // there, so they were not judged); stopped (SIGTERM) at step 48,340, two checks into the
+  // three in a row that end the stage. Either, lost, changes when the stage ends.
+  prm = sample_file("  set checkpoint interval = 0.001\n");
+  const Result killed = run_signalled(prm, 47341, SIGKILL);
+  EXPECT_TRUE(killed.code == -1 || killed.code == 128 + SIGKILL) << killed.code;
+  ASSERT_TRUE(fs::exists(out / "checkpoint.h5"));
+  // The sample file changed since: the parameter that differs, then and now.
+  const std::string original = slurp(prm);
+  std::ofstream(prm) << original << "subsection zone\n  set equilibrium ratio = 0.04\nend\n";
+  expect_error(run("resume " + out.string()),
+               {"resumable.prm has changed", "zone/equilibrium ratio = 0.05", "= 0.04"});
+  std::ofstream(prm) << original;
+  const Result revived = run("resume " + out.string());
+  ASSERT_EQ(revived.code, 0) << revived.err;
+  EXPECT_NE(revived.out.find("equilibrium stage at step 42000"), std::string::npos) << revived.out;
+  expect_same_sample();
+  fs::remove_all(out);
+  ASSERT_EQ(run_signalled(prm, 48340, SIGTERM).code, 130);
+  const Result again = run("resume " + out.string());
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_NE(again.out.find("equilibrium stage at step 43000"), std::string::npos) << again.out;
+  expect_same_sample();
 }
 
 void BuildSample::check_case_loading(const fs::path& base) {

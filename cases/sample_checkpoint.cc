@@ -1,0 +1,153 @@
+#include "cases/sample_checkpoint.h"
+
+#include <cmath>
+
+#include "dem/hdf5_io.h"
+#include "dem/input_error.h"
+
+namespace trackbed::cases {
+
+namespace {
+
+using dem::hdf5::Handle;
+namespace hdf5 = dem::hdf5;
+
+constexpr const char* kFormat = "trackbed sample build checkpoint 1";
+constexpr const char* kWhat = "a checkpoint of trackbed build-sample (checkpoint.h5 of its folder)";
+constexpr int kStageColumns = 9;
+constexpr int kHistoryColumns = 7;
+
+// Rows of numbers as one 2-D dataset, the texts beside them as an attribute.
+void write_table(hid_t g, const char* name, const std::vector<std::string>& texts,
+                 const std::vector<double>& flat, int cols) {
+  hdf5::write_doubles(g, name, flat.data(), texts.size(), cols);
+  hdf5::write_strings(g, (std::string(name) + "_names").c_str(), texts);
+}
+
+std::vector<double> read_table(hid_t g, const std::string& file, const char* name,
+                               std::vector<std::string>& texts, int cols) {
+  texts = hdf5::read_strings(g, file, (std::string(name) + "_names").c_str());
+  return hdf5::read_doubles(g, file, name, static_cast<long>(texts.size()) * cols);
+}
+
+void write_stages(hid_t g, const char* name, const std::vector<dem::StageReport>& stages) {
+  std::vector<std::string> names;
+  std::vector<double> flat;
+  for (const auto& s : stages) {
+    names.push_back(s.name);
+    flat.insert(flat.end(), {double(s.steps), s.simulated_time, s.wall_time, s.final_ratio,
+                             s.converged ? 1.0 : 0.0, double(s.bodies), double(s.elements),
+                             double(s.contacts), s.time_step});
+  }
+  write_table(g, name, names, flat, kStageColumns);
+}
+
+std::vector<dem::StageReport> read_stages(hid_t g, const std::string& file, const char* name) {
+  std::vector<std::string> names;
+  const auto v = read_table(g, file, name, names, kStageColumns);
+  std::vector<dem::StageReport> out;
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const double* r = v.data() + k * kStageColumns;
+    dem::StageReport s;
+    s.name = names[k];
+    s.steps = std::lround(r[0]);
+    s.simulated_time = r[1], s.wall_time = r[2], s.final_ratio = r[3];
+    s.converged = r[4] != 0;
+    s.bodies = static_cast<int>(r[5]), s.elements = static_cast<int>(r[6]);
+    s.contacts = static_cast<int>(r[7]);
+    s.time_step = r[8];
+    out.push_back(s);
+  }
+  return out;
+}
+
+}  // namespace
+
+void write_sample_checkpoint(const std::string& path, const SampleCheckpoint& c) {
+  hdf5::write_file(path, "checkpoint", [&](hid_t file) {
+    hdf5::write_string_attribute(file, "format", kFormat);
+    hdf5::write_string_attribute(file, "version", c.version);
+    hdf5::write_string_attribute(file, "sample_file", c.sample_file);
+    hdf5::write_string_attribute(file, "fingerprint", c.fingerprint);
+    hdf5::write_string_attribute(file, "threads", std::to_string(c.threads));
+    {
+      Handle g(hdf5::create_group(file, "engine"), H5Gclose, "group engine");
+      dem::write_engine_state(g, c.conversion.engine);
+    }
+    Handle build(hdf5::create_group(file, "build"), H5Gclose, "group build");
+    const dem::ConversionCheckpoint& v = c.conversion;
+    const std::vector<double> counters = {double(v.stage), double(v.point.steps),
+                                          double(v.point.below), v.point.wall_time, c.wall_seconds};
+    hdf5::write_doubles(build, "counters", counters.data(), counters.size(), 1);
+    hdf5::write_doubles(build, "criterion_memory", v.criterion_memory.data(),
+                        v.criterion_memory.size(), 1);
+    write_stages(build, "conversion_stages", v.done);
+    write_stages(build, "build_stages", c.stages);
+    std::vector<std::string> keys, values;
+    for (const auto& [k, x] : c.notes) keys.push_back(k), values.push_back(x);
+    hdf5::write_strings(build, "note_keys", keys);
+    hdf5::write_strings(build, "note_values", values);
+    std::vector<std::string> stages;
+    std::vector<double> flat;
+    for (const auto& h : c.history) {
+      stages.push_back(h.stage);
+      flat.insert(flat.end(), {h.time, double(h.step), h.ratio, h.kinetic_energy,
+                               double(h.contacts), h.sleeper_z, h.sleeper_load});
+    }
+    write_table(build, "history", stages, flat, kHistoryColumns);
+  });
+}
+
+bool is_sample_checkpoint(const std::string& path) {
+  Handle file(hdf5::open_for_reading(path, kWhat), H5Fclose, "open " + path);
+  return H5Aexists(file, "format") > 0 &&
+         hdf5::read_string_attribute(file, path, "format") == kFormat;
+}
+
+SampleCheckpoint read_sample_checkpoint(const std::string& path) {
+  Handle file(hdf5::open_for_reading(path, kWhat), H5Fclose, "open " + path);
+  if (H5Aexists(file, "format") <= 0 ||
+      hdf5::read_string_attribute(file, path, "format") != kFormat)
+    throw dem::InputError(path + ": not a sample build checkpoint of this version; valid: " +
+                          kWhat + " (" + kFormat + ")");
+  SampleCheckpoint c;
+  c.version = hdf5::read_string_attribute(file, path, "version");
+  c.sample_file = hdf5::read_string_attribute(file, path, "sample_file");
+  c.fingerprint = hdf5::read_string_attribute(file, path, "fingerprint");
+  c.threads = std::stoi(hdf5::read_string_attribute(file, path, "threads"));
+  dem::ConversionCheckpoint& v = c.conversion;
+  {
+    Handle g(hdf5::open_group(file, path, "engine"), H5Gclose, "group engine");
+    v.engine = dem::read_engine_state(g, path);
+  }
+  Handle build(hdf5::open_group(file, path, "build"), H5Gclose, "group build");
+  const auto n = hdf5::read_doubles(build, path, "counters", 5);
+  v.stage = static_cast<int>(n[0]);
+  if (v.stage != 0 && v.stage != 1)
+    throw dem::InputError(path + ": build/counters names stage " + std::to_string(v.stage) +
+                          "; valid: 0 (growth) or 1 (equilibrium); the file is damaged");
+  v.point.steps = std::lround(n[1]);
+  v.point.below = static_cast<int>(n[2]);
+  v.point.wall_time = n[3];
+  c.wall_seconds = n[4];
+  v.criterion_memory = hdf5::read_doubles(build, path, "criterion_memory");
+  v.done = read_stages(build, path, "conversion_stages");
+  c.stages = read_stages(build, path, "build_stages");
+  const auto keys = hdf5::read_strings(build, path, "note_keys");
+  const auto values = hdf5::read_strings(build, path, "note_values");
+  if (keys.size() != values.size())
+    throw dem::InputError(path +
+                          ": build/note_keys and note_values differ in length; the file "
+                          "is damaged");
+  for (std::size_t k = 0; k < keys.size(); ++k) c.notes.push_back({keys[k], values[k]});
+  std::vector<std::string> stages;
+  const auto flat = read_table(build, path, "history", stages, kHistoryColumns);
+  for (std::size_t k = 0; k < stages.size(); ++k) {
+    const double* r = flat.data() + k * kHistoryColumns;
+    c.history.push_back(
+        {stages[k], r[0], std::lround(r[1]), r[2], r[3], static_cast<int>(r[4]), r[5], r[6]});
+  }
+  return c;
+}
+
+}  // namespace trackbed::cases

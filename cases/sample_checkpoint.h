@@ -1,0 +1,41 @@
+// Checkpoints of a sample build (`trackbed build-sample`) while it converts balls to clumps, the
+// build's long part (hours for a full-size all-clump bed): the conversion's stage and the engine's
+// state there (dem/clump_conversion.h) with the build's own, so that `trackbed resume DIR` goes on
+// from the last checkpoint and ends the build bit for bit as the uninterrupted one would have
+// (same sample file, same threads):
+//   - the sample file it builds: its path and the fingerprint of its parameters;
+//   - what the build has gathered: the history rows, the reports of the finished stages, the
+//     notes of its ball build (when the ball sample was built in the same run), its wall time.
+// The replacement of balls by clumps is deterministic and is made again on resume from the base
+// sample (the sample file's 'base sample', or base.h5 of the folder). Written to
+// DIR/checkpoint.h5 as a run's checkpoint is (run_checkpoint.h); format: docs/formats.md,
+// "Checkpoints".
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "dem/clump_conversion.h"
+
+namespace trackbed::cases {
+
+struct SampleCheckpoint {
+  std::string sample_file;  // absolute path
+  std::string fingerprint;  // SampleParameters::fingerprint
+  std::string version;      // of the trackbed that wrote it
+  int threads = 1;
+  double wall_seconds = 0;                                 // of the build, up to the checkpoint
+  std::vector<dem::StageReport> stages;                    // of the ball build made in the same run
+  std::vector<std::pair<std::string, std::string>> notes;  // its summary items
+  std::vector<dem::SettleSample> history;                  // rows of history/build.csv so far
+  dem::ConversionCheckpoint conversion;
+};
+
+void write_sample_checkpoint(const std::string& path, const SampleCheckpoint& c);
+// InputError naming the file for a foreign or damaged checkpoint.
+SampleCheckpoint read_sample_checkpoint(const std::string& path);
+// Whether a checkpoint file is a sample build's (else a run's, or not a checkpoint).
+bool is_sample_checkpoint(const std::string& path);
+
+}  // namespace trackbed::cases
