@@ -57,9 +57,10 @@ class SectionModel {
   // servo holding its weight (PFC's servo, automatic gain), every other DOF fixed.
   Simulation make(Particles particles, const StageWalls& walls, const StageMaterials& stage = {},
                   const std::optional<MeshBody>& sleeper_body = std::nullopt) const;
-  // Makes `c` require the sleeper seated, the extra condition of a seating stage: over each
-  // check interval its mean load is within 1 % of what its servo holds (its weight, or a
-  // tamping load) and its mean speed is below `max_speed`. Means over the interval, not the
+  // Makes `c` require the sleeper seated, the extra condition of a seating stage: since it was
+  // last judged (the checks judge it only where the ratio meets the criterion: one check
+  // interval, or more after checks above it) its mean load is within 1 % of what its servo holds
+  // (its weight, or a tamping load) and its mean speed is below `max_speed`. Means, not the
   // values at the check: the servo's speed follows the load error of each step, which the
   // contacts of a settling bed scatter from step to step (docs/samples.md, "Equilibrium").
   void require_seated_sleeper(SettleCriterion& c, double max_speed = 1e-4) const;

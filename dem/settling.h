@@ -22,8 +22,8 @@ struct SettleCriterion {
   double min_time = 0;       // s simulated before the ratio is looked at
   double max_time = 5;       // s simulated at most
   int check_interval = 500;  // steps
-  // Further condition checked with the ratio (empty: none), and what is done after every step
-  // (empty: nothing), e.g. recording the means it judges over the check interval, or changing a
+  // Further condition, judged at a check where the ratio meets `ratio` (empty: none), and what is
+  // done after every step (empty: nothing), e.g. recording the means it judges, or changing a
   // wall's control.
   std::function<bool(const Simulation&)> also;
   std::function<void(Simulation&)> each_step;
