@@ -1,6 +1,8 @@
 #include "cases/sample_checkpoint.h"
 
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 
 #include "dem/hdf5_io.h"
 #include "dem/input_error.h"
@@ -63,12 +65,30 @@ std::vector<dem::StageReport> read_stages(hid_t g, const std::string& file, cons
 
 }  // namespace
 
+std::string sample_digest(const dem::Sample& sample) {
+  std::uint64_t h = 14695981039346656037ull;
+  auto add = [&](const void* data, std::size_t bytes) {
+    const auto* b = static_cast<const unsigned char*>(data);
+    for (std::size_t k = 0; k < bytes; ++k) h = (h ^ b[k]) * 1099511628211ull;
+  };
+  const dem::Particles& p = sample.particles;
+  const long n = p.num_bodies();
+  add(&n, sizeof n);
+  add(p.id.data(), p.id.size() * sizeof(p.id[0]));
+  for (const dem::Vec3& x : p.x) add(x.data(), 3 * sizeof(double));
+  add(p.radius.data(), p.radius.size() * sizeof(double));
+  char text[32];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+  return text;
+}
+
 void write_sample_checkpoint(const std::string& path, const SampleCheckpoint& c) {
   hdf5::write_file(path, "checkpoint", [&](hid_t file) {
     hdf5::write_string_attribute(file, "format", kFormat);
     hdf5::write_string_attribute(file, "version", c.version);
     hdf5::write_string_attribute(file, "sample_file", c.sample_file);
     hdf5::write_string_attribute(file, "fingerprint", c.fingerprint);
+    hdf5::write_string_attribute(file, "base_digest", c.base_digest);
     hdf5::write_string_attribute(file, "threads", std::to_string(c.threads));
     {
       Handle g(hdf5::create_group(file, "engine"), H5Gclose, "group engine");
@@ -114,6 +134,7 @@ SampleCheckpoint read_sample_checkpoint(const std::string& path) {
   c.version = hdf5::read_string_attribute(file, path, "version");
   c.sample_file = hdf5::read_string_attribute(file, path, "sample_file");
   c.fingerprint = hdf5::read_string_attribute(file, path, "fingerprint");
+  c.base_digest = hdf5::read_string_attribute(file, path, "base_digest");
   c.threads = std::stoi(hdf5::read_string_attribute(file, path, "threads"));
   dem::ConversionCheckpoint& v = c.conversion;
   {

@@ -3,7 +3,8 @@
 // state there (dem/clump_conversion.h) with the build's own, so that `trackbed resume DIR` goes on
 // from the last checkpoint and ends the build bit for bit as the uninterrupted one would have
 // (same sample file, same threads):
-//   - the sample file it builds: its path and the fingerprint of its parameters;
+//   - the sample file it builds: its path and the fingerprint of its parameters, and a digest of
+//     the base sample it converts (a base rebuilt since would convert to another bed);
 //   - what the build has gathered: the history rows, the reports of the finished stages, the
 //     notes of its ball build (when the ball sample was built in the same run), its wall time.
 // The replacement of balls by clumps is deterministic and is made again on resume from the base
@@ -17,12 +18,14 @@
 #include <vector>
 
 #include "dem/clump_conversion.h"
+#include "dem/sample.h"
 
 namespace trackbed::cases {
 
 struct SampleCheckpoint {
   std::string sample_file;  // absolute path
   std::string fingerprint;  // SampleParameters::fingerprint
+  std::string base_digest;  // sample_digest() of the base sample
   std::string version;      // of the trackbed that wrote it
   int threads = 1;
   double wall_seconds = 0;                                 // of the build, up to the checkpoint
@@ -35,6 +38,9 @@ struct SampleCheckpoint {
 void write_sample_checkpoint(const std::string& path, const SampleCheckpoint& c);
 // InputError naming the file for a foreign or damaged checkpoint.
 SampleCheckpoint read_sample_checkpoint(const std::string& path);
+// A digest of a sample's bodies (count, ids, positions, element radii; FNV-1a over their bytes):
+// equal for the same file, different for a sample built again with any other outcome.
+std::string sample_digest(const dem::Sample& sample);
 // Whether a checkpoint file is a sample build's (else a run's, or not a checkpoint).
 bool is_sample_checkpoint(const std::string& path);
 

@@ -89,6 +89,12 @@ dem::Sample SampleRun::convert(const dem::Sample& base, dem::ConversionCheckpoin
   // checkpoint.
   catch_stop_signals();
   last_checkpoint_ = std::chrono::steady_clock::now();
+  base_digest_ = sample_digest(base);
+  if (from && from_digest_ != base_digest_)
+    throw dem::InputError(prm_.file +
+                          ": the base sample has changed since the build started "
+                          "(another file, or built again); valid: the base sample it started "
+                          "from, or a new build");
   dem::Sample sample = conversion.run(from);
   const dem::ConversionReport& r = conversion.report();
   stages_.insert(stages_.end(), r.stages.begin(), r.stages.end());
@@ -115,6 +121,7 @@ void SampleRun::write_checkpoint(dem::ConversionCheckpoint conversion) {
   SampleCheckpoint c;
   c.sample_file = fs::absolute(prm_.file).lexically_normal().string();
   c.fingerprint = prm_.fingerprint;
+  c.base_digest = base_digest_;
   c.version = TRACKBED_VERSION;
   c.threads = omp_get_max_threads();
   c.wall_seconds = earlier_wall_seconds_ + seconds_since(start_);
@@ -135,6 +142,7 @@ int SampleRun::resume(SampleCheckpoint checkpoint) {
   stages_ = std::move(checkpoint.stages);
   notes_ = std::move(checkpoint.notes);
   earlier_wall_seconds_ = checkpoint.wall_seconds;
+  from_digest_ = checkpoint.base_digest;
   const dem::ConversionCheckpoint& c = checkpoint.conversion;
   std::cout << "trackbed: resuming " << prm_.file << " in " << prm_.output_folder << " in its "
             << (c.stage == 0 ? "clump growth" : "equilibrium") << " stage at step " << c.point.steps

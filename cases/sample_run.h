@@ -58,6 +58,8 @@ class SampleRun {
   double max_grading_error_ = 0, max_grading_error_equivalent_ = 0;
   std::chrono::steady_clock::time_point start_, last_checkpoint_;
   double earlier_wall_seconds_ = 0;          // a resumed build's, up to its checkpoint
+  std::string base_digest_;                  // of the base sample converted (sample_digest)
+  std::string from_digest_;                  // that of the checkpoint resumed from
   std::pair<long, int> test_signal_{-1, 0};  // step, signal (TRACKBED_TEST_SIGNAL)
 };
 

@@ -208,6 +208,11 @@ void BuildSample::check_resumed_conversion(const fs::path& base) {
   expect_error(run("resume " + out.string()),
                {"resumable.prm has changed", "zone/equilibrium ratio = 0.05", "= 0.04"});
   std::ofstream(prm) << original;
+  // The base sample built again since (here another sample in its place): refused as well.
+  fs::copy_file(base / "sample.h5", dir_ / "base.h5");
+  fs::copy_file(whole / "sample.h5", base / "sample.h5", fs::copy_options::overwrite_existing);
+  expect_error(run("resume " + out.string()), {"resumable.prm", "base sample has changed"});
+  fs::copy_file(dir_ / "base.h5", base / "sample.h5", fs::copy_options::overwrite_existing);
   const Result revived = run("resume " + out.string());
   ASSERT_EQ(revived.code, 0) << revived.err;
   EXPECT_NE(revived.out.find("equilibrium stage at step 42000"), std::string::npos) << revived.out;
