@@ -15,10 +15,6 @@ namespace hdf5 = dem::hdf5;
 constexpr const char* kFormat = "trackbed checkpoint 1";
 constexpr const char* kWhat = "a trackbed checkpoint (checkpoint.h5 of a results folder)";
 
-void write_numbers(hid_t g, const char* name, const std::vector<double>& v) {
-  hdf5::write_doubles(g, name, v.data(), v.size(), 1);
-}
-
 std::vector<double> energy_numbers(const dem::EnergyBudget& e) {
   return {e.kinetic, e.strain,        e.friction,     e.rolling,
           e.dashpot, e.local_damping, e.gravity_work, e.wall_work};
@@ -45,20 +41,21 @@ void write_run_checkpoint(const std::string& path, const RunCheckpoint& c) {
       dem::write_engine_state(g, c.engine);
     }
     Handle run(hdf5::create_group(file, "run"), H5Gclose, "group run");
-    write_numbers(run, "counters",
-                  {c.next_history, c.next_frame, c.next_snapshot, c.warned_critical ? 1.0 : 0.0,
-                   double(c.loop_start_step), c.wall_seconds, c.loop_seconds});
-    write_numbers(run, "frame_times", c.frame_times);
+    hdf5::write_doubles(
+        run, "counters",
+        {c.next_history, c.next_frame, c.next_snapshot, c.warned_critical ? 1.0 : 0.0,
+         double(c.loop_start_step), c.wall_seconds, c.loop_seconds});
+    hdf5::write_doubles(run, "frame_times", c.frame_times);
     hdf5::write_integers(run, "history_bytes",
                          std::vector<std::int64_t>(c.history_bytes.begin(), c.history_bytes.end()));
-    write_numbers(run, "initial_energy", energy_numbers(c.initial_energy));
+    hdf5::write_doubles(run, "initial_energy", energy_numbers(c.initial_energy));
     hdf5::write_vectors(run, "initial_positions", c.initial_positions);
     if (c.has_push) {
       Handle g(hdf5::create_group(file, "push"), H5Gclose, "group push");
       const PushTest::Progress& p = c.push;
-      write_numbers(g, "progress",
-                    {p.start, p.push_start, p.hold_ratio, double(p.leg), double(p.confirmations),
-                     p.hold_converged ? 1.0 : 0.0});
+      hdf5::write_doubles(g, "progress",
+                          {p.start, p.push_start, p.hold_ratio, double(p.leg),
+                           double(p.confirmations), p.hold_converged ? 1.0 : 0.0});
       const std::size_t cols = p.rows.empty() ? 0 : p.rows.front().size();
       std::vector<double> flat;
       for (const auto& r : p.rows) flat.insert(flat.end(), r.begin(), r.end());
@@ -70,8 +67,7 @@ void write_run_checkpoint(const std::string& path, const RunCheckpoint& c) {
 
 RunCheckpoint read_run_checkpoint(const std::string& path) {
   Handle file(hdf5::open_for_reading(path, kWhat), H5Fclose, "open " + path);
-  if (H5Aexists(file, "format") <= 0 ||
-      hdf5::read_string_attribute(file, path, "format") != kFormat)
+  if (!hdf5::has_format(file, path, kFormat))
     throw dem::InputError(path + ": not a trackbed checkpoint of this version; valid: " + kWhat +
                           " (" + kFormat + ")");
   RunCheckpoint c;

@@ -98,9 +98,8 @@ void write_sample_checkpoint(const std::string& path, const SampleCheckpoint& c)
     const dem::ConversionCheckpoint& v = c.conversion;
     const std::vector<double> counters = {double(v.stage), double(v.point.steps),
                                           double(v.point.below), v.point.wall_time, c.wall_seconds};
-    hdf5::write_doubles(build, "counters", counters.data(), counters.size(), 1);
-    hdf5::write_doubles(build, "criterion_memory", v.criterion_memory.data(),
-                        v.criterion_memory.size(), 1);
+    hdf5::write_doubles(build, "counters", counters);
+    hdf5::write_doubles(build, "criterion_memory", v.criterion_memory);
     write_stages(build, "conversion_stages", v.done);
     write_stages(build, "build_stages", c.stages);
     std::vector<std::string> keys, values;
@@ -120,14 +119,12 @@ void write_sample_checkpoint(const std::string& path, const SampleCheckpoint& c)
 
 bool is_sample_checkpoint(const std::string& path) {
   Handle file(hdf5::open_for_reading(path, kWhat), H5Fclose, "open " + path);
-  return H5Aexists(file, "format") > 0 &&
-         hdf5::read_string_attribute(file, path, "format") == kFormat;
+  return hdf5::has_format(file, path, kFormat);
 }
 
 SampleCheckpoint read_sample_checkpoint(const std::string& path) {
   Handle file(hdf5::open_for_reading(path, kWhat), H5Fclose, "open " + path);
-  if (H5Aexists(file, "format") <= 0 ||
-      hdf5::read_string_attribute(file, path, "format") != kFormat)
+  if (!hdf5::has_format(file, path, kFormat))
     throw dem::InputError(path + ": not a sample build checkpoint of this version; valid: " +
                           kWhat + " (" + kFormat + ")");
   SampleCheckpoint c;

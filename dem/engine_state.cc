@@ -219,10 +219,6 @@ std::vector<T> read_ints(hid_t g, const std::string& file, const char* name, lon
   return std::vector<T>(v.begin(), v.end());
 }
 
-void write_scalars(hid_t g, const char* name, const std::vector<double>& v) {
-  hdf5::write_doubles(g, name, v.data(), v.size(), 1);
-}
-
 // A group per item of a list, named by its index.
 std::string item(std::size_t k) {
   return std::to_string(k);
@@ -236,7 +232,7 @@ void write_particles(hid_t g, const Particles& p) {
   hdf5::write_vectors(g, "L", p.L);
   hdf5::write_vectors(g, "f", p.f);
   hdf5::write_vectors(g, "t", p.t);
-  write_scalars(g, "mass", p.mass);
+  hdf5::write_doubles(g, "mass", p.mass);
   hdf5::write_vectors(g, "inertia", p.inertia);
   write_ints(g, "body_material", p.body_material);
   write_ints(g, "first_element", p.first_element);
@@ -244,7 +240,7 @@ void write_particles(hid_t g, const Particles& p) {
   write_ints(g, "is_clump", p.is_clump);
   hdf5::write_vectors(g, "pos", p.pos);
   hdf5::write_vectors(g, "offset", p.offset);
-  write_scalars(g, "radius", p.radius);
+  hdf5::write_doubles(g, "radius", p.radius);
   write_ints(g, "body", p.body);
   write_ints(g, "material", p.material);
 }
@@ -303,11 +299,12 @@ std::array<DofControl, 6> dof_controls(const std::vector<double>& v, const std::
 }  // namespace
 
 void write_engine_state(hid_t group, const EngineState& s) {
-  write_scalars(group, "clock", {s.time, double(s.steps), s.time_step, double(s.builds)});
+  hdf5::write_doubles(group, "clock", {s.time, double(s.steps), s.time_step, double(s.builds)});
   hdf5::write_vectors(group, "gravity", {s.gravity});
   const EnergyBudget& e = s.tally;
-  write_scalars(group, "tally",
-                {e.friction, e.rolling, e.dashpot, e.local_damping, e.gravity_work, e.wall_work});
+  hdf5::write_doubles(
+      group, "tally",
+      {e.friction, e.rolling, e.dashpot, e.local_damping, e.gravity_work, e.wall_work});
   {
     Handle g(hdf5::create_group(group, "particles"), H5Gclose, "group particles");
     write_particles(g, s.particles);
@@ -335,7 +332,7 @@ void write_engine_state(hid_t group, const EngineState& s) {
       hdf5::write_string_attribute(mg, "name", m.name);
       hdf5::write_vectors(mg, "x_v_w", {m.x, m.v, m.w});
       hdf5::write_quaternions(mg, "q_wxyz", {m.q});
-      write_scalars(mg, "dof", dof_numbers(m.dof));
+      hdf5::write_doubles(mg, "dof", dof_numbers(m.dof));
       hdf5::write_vectors(
           mg, "loads",
           {m.contact_force, m.contact_moment, m.contact_stiffness, m.contact_rotational_stiffness});
@@ -351,7 +348,7 @@ void write_engine_state(hid_t group, const EngineState& s) {
     write_ints(g, "partners", s.list_partners);
     hdf5::write_vectors(g, "shear", s.pair_shear);
     hdf5::write_vectors(g, "roll", s.pair_roll);
-    write_scalars(g, "fn", s.pair_fn);
+    hdf5::write_doubles(g, "fn", s.pair_fn);
   }
   {
     Handle g(hdf5::create_group(group, "walls"), H5Gclose, "group walls");
@@ -365,14 +362,14 @@ void write_engine_state(hid_t group, const EngineState& s) {
       hdf5::write_vectors(wg, "shear", w.shear);
       hdf5::write_vectors(wg, "roll", w.roll);
       hdf5::write_vectors(wg, "normal", w.normal);
-      write_scalars(wg, "fn", w.fn);
+      hdf5::write_doubles(wg, "fn", w.fn);
     }
   }
   {
     Handle g(hdf5::create_group(group, "at_build"), H5Gclose, "group at_build");
     hdf5::write_vectors(g, "pos", s.pos_at_build);
-    write_scalars(g, "radius", s.radius_at_build);
-    write_scalars(g, "growth", {s.growth_since_build});
+    hdf5::write_doubles(g, "radius", s.radius_at_build);
+    hdf5::write_doubles(g, "growth", {s.growth_since_build});
     hdf5::write_vectors(g, "wall_point", s.wall_point_at_build);
     hdf5::write_quaternions(g, "mesh_q_wxyz", s.mesh_q_at_build);
   }

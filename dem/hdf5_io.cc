@@ -92,6 +92,10 @@ void write_doubles(hid_t parent, const char* name, const double* data, hsize_t r
   write_array(parent, name, H5T_NATIVE_DOUBLE, data, rows, cols);
 }
 
+void write_doubles(hid_t parent, const char* name, const std::vector<double>& v) {
+  write_doubles(parent, name, v.data(), v.size(), 1);
+}
+
 void write_vectors(hid_t parent, const char* name, const std::vector<Vec3>& v) {
   std::vector<double> flat;
   flat.reserve(3 * v.size());
@@ -181,6 +185,10 @@ std::string read_string_attribute(hid_t object, const std::string& file, const c
     throw InputError(file + ": cannot read attribute '" + name + "'");
   value.erase(value.find_last_not_of('\0') + 1);
   return value;
+}
+
+bool has_format(hid_t file, const std::string& path, const std::string& format) {
+  return H5Aexists(file, "format") > 0 && read_string_attribute(file, path, "format") == format;
 }
 
 void write_strings(hid_t object, const char* name, const std::vector<std::string>& values) {

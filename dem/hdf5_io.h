@@ -45,6 +45,8 @@ hid_t open_group(hid_t parent, const std::string& file, const char* name);
 
 // rows x cols doubles (cols == 1: a 1-D dataset).
 void write_doubles(hid_t parent, const char* name, const double* data, hsize_t rows, hsize_t cols);
+// A 1-D dataset.
+void write_doubles(hid_t parent, const char* name, const std::vector<double>& v);
 void write_vectors(hid_t parent, const char* name, const std::vector<Vec3>& v);
 // Quaternions as (w, x, y, z) rows.
 void write_quaternions(hid_t parent, const char* name, const std::vector<Quat>& q);
@@ -66,6 +68,9 @@ std::vector<std::int64_t> read_integers(hid_t parent, const std::string& file, c
 void write_string_attribute(hid_t object, const char* name, const std::string& value);
 // InputError if the attribute is missing.
 std::string read_string_attribute(hid_t object, const std::string& file, const char* name);
+// Whether `file`'s attribute `format` is `format` (false if it has none): the check by which
+// each reader refuses another kind of file, or another version.
+bool has_format(hid_t file, const std::string& path, const std::string& format);
 // A list of strings as one attribute, joined by newlines (names never contain one).
 void write_strings(hid_t object, const char* name, const std::vector<std::string>& values);
 std::vector<std::string> read_strings(hid_t object, const std::string& file, const char* name);

@@ -233,8 +233,7 @@ void write_sample(const std::string& path, const Sample& sample) {
 Sample read_sample(const std::string& path) {
   hdf5::Handle file(hdf5::open_for_reading(path, "a trackbed sample (.h5)"), H5Fclose,
                     "open " + path);
-  if (H5Aexists(file, "format") <= 0 ||
-      hdf5::read_string_attribute(file, path, "format") != kFormat)
+  if (!hdf5::has_format(file, path, kFormat))
     throw InputError(path + ": not a trackbed sample (no 'format = " + kFormat +
                      "' attribute); valid: a file written by 'trackbed build-sample'");
   Sample s;

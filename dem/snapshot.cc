@@ -36,31 +36,27 @@ std::vector<double> as_doubles(const std::vector<T>& v) {
   return std::vector<double>(v.begin(), v.end());
 }
 
-void write_doubles(hid_t parent, const char* name, const std::vector<double>& v) {
-  hdf5::write_doubles(parent, name, v.data(), v.size(), 1);
-}
-
 }  // namespace
 
 void write_snapshot(const std::string& path, const Simulation& sim) {
   hdf5::write_file(path, "snapshot", [&](hid_t file) {
     const Particles& p = sim.particles();
-    write_doubles(file, "clock", {sim.time(), static_cast<double>(sim.step_count())});
+    hdf5::write_doubles(file, "clock", {sim.time(), static_cast<double>(sim.step_count())});
     Handle bodies(hdf5::create_group(file, "bodies"), H5Gclose, "group bodies");
     hdf5::write_vectors(bodies, "position", p.x);
     hdf5::write_vectors(bodies, "velocity", p.v);
     hdf5::write_quaternions(bodies, "orientation_wxyz", p.q);
     hdf5::write_vectors(bodies, "angular_velocity", p.w);
     hdf5::write_vectors(bodies, "angular_momentum", p.L);
-    write_doubles(bodies, "mass", p.mass);
+    hdf5::write_doubles(bodies, "mass", p.mass);
     hdf5::write_vectors(bodies, "principal_inertia", p.inertia);
-    write_doubles(bodies, "id", as_doubles(p.id));
-    write_doubles(bodies, "is_clump", as_doubles(p.is_clump));
+    hdf5::write_doubles(bodies, "id", as_doubles(p.id));
+    hdf5::write_doubles(bodies, "is_clump", as_doubles(p.is_clump));
     Handle elements(hdf5::create_group(file, "elements"), H5Gclose, "group elements");
     hdf5::write_vectors(elements, "position", p.pos);
-    write_doubles(elements, "radius", p.radius);
-    write_doubles(elements, "body", as_doubles(p.body));
-    write_doubles(elements, "material", as_doubles(p.material));
+    hdf5::write_doubles(elements, "radius", p.radius);
+    hdf5::write_doubles(elements, "body", as_doubles(p.body));
+    hdf5::write_doubles(elements, "material", as_doubles(p.material));
     Handle walls(hdf5::create_group(file, "walls"), H5Gclose, "group walls");
     std::vector<Vec3> points, forces, mx, mv, mw;
     std::vector<Quat> mq;
