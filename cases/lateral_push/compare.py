@@ -60,7 +60,8 @@ def main(results):
     ax.set_xlim(0, 5.3)
     sc.save_curves(fig, ax, results, "lateral displacement of the sleeper (mm)",
                    "lateral resistance",
-                   "Lateral push, five models; triangles: the paper's peaks (Table 3)" +
+                   "Lateral push, %s; triangles: the paper's peaks (Table 3)" %
+                   ("five models" if len(table) == 5 else "%d of the five models" % len(table)) +
                    ("" if ref is None else ",\nas ratios to its all-clump peak applied to ours"))
 
     def ratio(row, k):
