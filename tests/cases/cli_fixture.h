@@ -68,8 +68,8 @@ class Cli : public ::testing::Test {
     // Suite and test name: ctest runs tests of different suites with the same name (the
     // BallSample of the lateral push and of the ballast box) at the same time.
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    dir_ = fs::temp_directory_path() / ("trackbed_cli_" + std::string(info->test_suite_name()) +
-                                        "." + info->name());
+    dir_ = fs::temp_directory_path() /
+           ("trackbed_cli_" + std::string(info->test_suite_name()) + "." + info->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
