@@ -237,9 +237,15 @@ void ClumpConversion::settle(ConversionCheckpoint* from) {
   model_.release_sleeper_when_carried(settled_);
   StagePoint start;
   if (from) {
-    sim_->restore_engine_state(std::move(from->engine));
+    sim_->restore_engine_state(std::move(from->engine));  // with the step it was taking
     settled_.restore_memory(from->criterion_memory);
     start = from->point;
+  } else {
+    // The growth took the probe's step: every clump at full size where its ball was, deep in its
+    // neighbours, touches several times the stiffness it touches in the grown bed. The grown
+    // bed's own estimate, as a case takes at its setup, allows about twice that step
+    // (docs/samples.md, "Time step").
+    sim_->set_time_step(settings_.critical_fraction * sim_->critical_timestep());
   }
   stage_ = 1;
   report_.stages.push_back(runner_.settle(*sim_, "equilibrium", settled_, start));
