@@ -196,8 +196,8 @@ void BuildSample::check_resumed_conversion(const fs::path& base) {
   // In the equilibrium (it starts at step 5,340), a checkpoint every millisecond, so one at every
   // check (500 steps): killed (SIGKILL) at the check after step 36,340, whose checkpoint holds
   // the sleeper's load and motion since the check before (the ratio was above the criterion
-  // there, for the last time, so they were not judged); stopped (SIGTERM) at step 40,340, two checks into the
-  // three in a row that end the stage. Either, lost, changes when the stage ends.
+  // there, for the last time, so they were not judged); stopped (SIGTERM) at step 40,340, two
+  // checks into the three in a row that end the stage. Either, lost, changes when it ends.
   prm = sample_file("  set checkpoint interval = 0.001\n");
   const Result killed = run_signalled(prm, 36341, SIGKILL);
   EXPECT_TRUE(killed.code == -1 || killed.code == 128 + SIGKILL) << killed.code;
