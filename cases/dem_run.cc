@@ -407,7 +407,8 @@ void DemRun::start_fresh() {
   write_frame();
   next_history_ = prm_.history_interval;
   next_frame_ = prm_.vtu_interval > 0 ? prm_.vtu_interval : INFINITY;
-  next_snapshot_ = prm_.snapshot_interval > 0 ? prm_.snapshot_interval : INFINITY;
+  // A push test's snapshots start with the push (advance()).
+  next_snapshot_ = prm_.snapshot_interval > 0 && !push_ ? prm_.snapshot_interval : INFINITY;
   loop_start_step_ = 0;
 }
 
@@ -512,7 +513,17 @@ void DemRun::advance() {
       loop_start_step_ = sim_->step_count();
       earlier_loop_seconds_ = 0;
     }
-    if (push_) push_->control(*sim_);
+    if (push_) {
+      const bool held = !push_->pushing();
+      push_->control(*sim_);
+      // A push test's snapshots run on the push's clock: one where the push starts, the bed at
+      // rest under the sleeper (a pilot zone's reference, docs/zones.md#pilot-zones), then one
+      // every interval.
+      if (held && push_->pushing() && prm_.snapshot_interval > 0) {
+        write_snapshot();
+        next_snapshot_ = sim_->time() + prm_.snapshot_interval;
+      }
+    }
     sim_->step();
     const double t = sim_->time() + 0.5 * dt;  // tolerant of round-off in the clock
     if (prm_.history_interval > 0 && t >= next_history_) {
@@ -635,6 +646,7 @@ void DemRun::write_summary(const std::string& status) {
 void DemRun::make_plot() {
   run_plot_script("plot_history.py", out_);
   if (push_) run_plot_script("plot_push.py", out_, "push-plot.log");
+  if (push_) run_plot_script("plot_displacement.py", out_, "displacement-plot.log");
   run_plot_script("plot_force_chains.py", out_, "force-chains-plot.log");
 }
 

@@ -54,6 +54,8 @@ class PushTest {
   double expected_end(const dem::Simulation& sim) const;
   // Every leg of the path travelled.
   bool finished() const;
+  // The hold is over and the push has started.
+  bool pushing() const { return push_start_ >= 0; }
   // Before every step: holds the push DOF until equilibrium, then moves it.
   void control(dem::Simulation& sim);
   // After a history row: one row of push.csv (during the push only).
@@ -93,8 +95,6 @@ class PushTest {
   std::vector<double> smoothed_resistance() const;
   // A curve over the rows interpolated at displacement d (NaN if the push did not get there).
   double interpolated_at(const std::vector<double>& curve, double d) const;
-
-  bool pushing() const { return push_start_ >= 0; }
 
   PushTestParameters prm_;
   int mesh_ = 0;

@@ -80,8 +80,14 @@ dem::Sample SampleRun::convert(const dem::Sample& base, dem::ConversionCheckpoin
                                             fs::absolute(prm_.file).parent_path().string());
   auto templates =
       dem::read_template_library(prm_.templates, prm_.template_setting, prm_.mass_from);
-  std::cout << "trackbed: converting the balls in zone " << zone->to_string() << " to clumps of "
-            << templates.size() << " templates " << prm_.template_setting << std::endl;
+  int in_zone = 0;
+  for (int b = 0; b < base.particles.num_bodies(); ++b)
+    in_zone += dem::converts(base.particles, b, *zone);
+  std::cout << "trackbed: converting the " << in_zone << " balls (of "
+            << base.particles.num_bodies() << " bodies) in zone " << zone->to_string()
+            << " to clumps of " << templates.size() << " templates " << prm_.template_setting
+            << std::endl;
+  report_pilots(*zone, from != nullptr);
   dem::ClumpConversion conversion(base, zone, std::move(templates), prm_.conversion);
   connect(conversion.runner());
   conversion.runner().at_check = [&](const dem::StagePoint& at) { at_check(conversion, at); };
@@ -103,6 +109,26 @@ dem::Sample SampleRun::convert(const dem::Sample& base, dem::ConversionCheckpoin
   notes_.push_back({"growth_start_scale_mean", number(r.start_scale_mean)});
   write_outputs(sample, conversion.simulation(), &base);
   return sample;
+}
+
+// What each pilot term of the zone selected, on the terminal and in the summary, so a user can
+// tune its threshold to the zone size wanted (docs/zones.md#pilot-zones). A resumed build has the
+// notes in its checkpoint already.
+void SampleRun::report_pilots(const dem::Zone& zone, bool resumed) {
+  const auto pilots = zone.pilot_summaries();
+  for (std::size_t k = 0; k < pilots.size(); ++k) {
+    const dem::PilotSummary& s = pilots[k];
+    std::cout << "trackbed: pilot zone " << k + 1 << ": " << s.selected_bodies << " of "
+              << s.total_bodies << " bodies moved more than the threshold by "
+              << fs::path(s.snapshot).filename().string() << " (step " << s.step
+              << ", t = " << s.time << " s, sleeper displacement " << s.sleeper_displacement
+              << " m)" << std::endl;
+    if (resumed) continue;
+    const std::string key = "pilot" + std::to_string(k + 1) + "_";
+    notes_.push_back({key + "selected_bodies", number(s.selected_bodies)});
+    notes_.push_back({key + "total_bodies", number(s.total_bodies)});
+    notes_.push_back({key + "sleeper_displacement", number(s.sleeper_displacement)});
+  }
 }
 
 void SampleRun::at_check(const dem::ClumpConversion& conversion, const dem::StagePoint& at) {

@@ -22,6 +22,7 @@
 #include "cases/sample_parameters.h"
 #include "dem/sample.h"
 #include "dem/settling.h"
+#include "dem/zone.h"
 
 namespace trackbed::cases {
 
@@ -37,6 +38,7 @@ class SampleRun {
   int build(SampleCheckpoint* from);
   dem::Sample build_ball_sample();
   dem::Sample convert(const dem::Sample& base, dem::ConversionCheckpoint* from);
+  void report_pilots(const dem::Zone& zone, bool resumed);
   // At every check of the conversion: a checkpoint when one is due or a signal came, and the
   // build's end on a signal.
   void at_check(const dem::ClumpConversion& conversion, const dem::StagePoint& at);

@@ -32,6 +32,10 @@ SimulationSettings settings_for(const ConversionSettings& c) {
 
 }  // namespace
 
+bool converts(const Particles& p, int b, const Zone& zone) {
+  return !p.is_clump[b] && zone.contains(p.x[b]);
+}
+
 ClumpConversion::ClumpConversion(const Sample& base, ZonePtr zone,
                                  std::vector<LibraryTemplate> templates,
                                  ConversionSettings settings)
@@ -64,12 +68,21 @@ Sample ClumpConversion::run(ConversionCheckpoint* from) {
   std::vector<std::string> names;
   for (const auto& t : templates_) names.push_back(t.clump.name);
   Sample out = model_.to_sample(*sim_, shape_of_id_, sieve_size_of_id_, names);
+  // The sample's clumps are ballast again, as its balls: a case gives them the material it runs
+  // them with ('particles/clump material'), as it does to clumps of any sample.
+  Particles& q = out.particles;
+  for (int& m : q.body_material)
+    if (m == SectionModel::kClumpMaterial) m = 0;
+  for (int& m : q.material)
+    if (m == SectionModel::kClumpMaterial) m = 0;
+  out.materials.resize(SectionModel::kClumpMaterial);
   for (const auto& [k, v] : base_.info)
     if (k.rfind("section/", 0) != 0 && k.rfind("material/", 0) != 0 && k != "zone")
       out.info.push_back({k, v});
   out.info.push_back({"zone", zone_->to_string()});
   out.info.push_back({"conversion/templates", templates_.front().setting});
   out.info.push_back({"conversion/seed", std::to_string(settings_.seed)});
+  out.info.push_back({"conversion/clump rolling friction", "0"});
   return out;
 }
 
@@ -87,8 +100,7 @@ void ClumpConversion::replace() {
     const std::int64_t id = p.id[b];
     shape_of_id_[id] = base_.shape[b];
     sieve_size_of_id_[id] = base_.sieve_size[b];
-    const bool convert = !p.is_clump[b] && zone_->contains(p.x[b]);
-    if (!convert) {
+    if (!converts(p, b, *zone_)) {
       std::vector<SphereShape> elements;
       for (int e = p.first_element[b]; e < p.first_element[b + 1]; ++e)
         elements.push_back({p.offset[e], p.radius[e]});
@@ -127,8 +139,8 @@ void ClumpConversion::replace() {
     fitter.add(placed);
     particles_.add_body_with_elements(
         p.x[b], best_q, p.mass[b],
-        p.mass[b] * s * s / lib.clump.volume * lib.clump.principal_moments, p.body_material[b],
-        true, id, elements);
+        p.mass[b] * s * s / lib.clump.volume * lib.clump.principal_moments,
+        SectionModel::kClumpMaterial, true, id, elements);
     start_scale_of_id_[id] = start;
     shape_of_id_[id] = t;
     sieve_size_of_id_[id] = s * pebble_sieve_size_[t];
@@ -162,7 +174,7 @@ ConversionCheckpoint ClumpConversion::checkpoint(const StagePoint& at) const {
 
 void ClumpConversion::grow(ConversionCheckpoint* from) {
   const StageMaterials growing{
-      settings_.growth_friction_factor, settings_.growth_friction_factor, {}};
+      settings_.growth_friction_factor, settings_.growth_friction_factor, {}, true};
   // The step must suit the grown clumps: the critical step of the full-size model, whose
   // overlaps a probe model tolerates (it is never stepped).
   SimulationSettings probe_settings = settings_for(settings_);
@@ -229,7 +241,7 @@ void ClumpConversion::grow(ConversionCheckpoint* from) {
 }
 
 void ClumpConversion::settle(ConversionCheckpoint* from) {
-  sim_->set_materials(model_.material_table());
+  sim_->set_materials(model_.material_table(StageMaterials{1, 1, {}, true}));
   settled_ = SettleCriterion{};
   settled_.max_time = settings_.max_stage_time;
   settled_.ratio = settings_.equilibrium_ratio;

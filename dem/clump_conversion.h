@@ -59,6 +59,9 @@ struct ConversionCheckpoint {
   EngineState engine;
 };
 
+// Whether a conversion in `zone` turns body b of `p` into a clump: a ball whose centre lies in it.
+bool converts(const Particles& p, int b, const Zone& zone);
+
 class ClumpConversion {
  public:
   // The section and materials are those the base sample was built with (its info lines).

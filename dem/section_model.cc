@@ -48,6 +48,12 @@ MaterialTable SectionModel::material_table(const StageMaterials& stage) const {
   t.add(ballast);
   t.add(materials_.sleeper);
   t.add(materials_.wall);
+  if (stage.clump_material) {
+    Material clump = ballast;
+    clump.name = kClumpMaterialName;
+    clump.rolling_friction = 0;
+    t.add(clump);
+  }
   return t;
 }
 

@@ -31,6 +31,9 @@ struct StageMaterials {
   double friction_factor = 1;  // scales the ballast friction (and the ballast-sleeper friction)
   double rolling_factor = 1;   // scales the ballast rolling friction
   std::optional<double> local_damping;  // replaces the ballast local damping
+  // Adds SectionModel::kClumpMaterial, the ballast without rolling resistance, for the clumps of
+  // a conversion: the paper's contact model gives rolling resistance to balls only (Table 2).
+  bool clump_material = false;
 };
 
 struct StageWalls {
@@ -85,6 +88,9 @@ class SectionModel {
   std::vector<std::pair<std::string, std::string>> info() const;
 
   static constexpr const char* kSleeperName = "sleeper";
+  // The index and name of the clumps' material in a table made with StageMaterials::clump_material.
+  static constexpr int kClumpMaterial = 3;
+  static constexpr const char* kClumpMaterialName = "ballast-clump";
 
  private:
   TrackSection section_;

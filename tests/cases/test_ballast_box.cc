@@ -55,9 +55,9 @@ TEST_F(BallastBox, ClumpD130R04) {
 
 // Table 1's finding on contacts: the clumps' bed has more contacts than the balls' (the paper:
 // 11,573 and 10,536 against 5,991, x1.9), since a clump touches a neighbour at several pebbles;
-// the small bed has x1.25 and x1.28 (docs/validation.md). Its largest contact forces are the
-// other way round (the balls' 0.4 kN against the clumps' 0.11-0.16 kN) and are checked against the
-// references only: docs/validation.md says why they differ from the paper's.
+// the small bed has x1.27 and x1.28 (docs/validation.md). Its largest contact forces (particle-
+// particle: the balls' 0.41 kN, the clumps' 0.25 and 0.91 kN) are checked against the references
+// only: docs/validation.md says why they differ from the paper's.
 TEST_F(BallastBox, ThreeShapes) {
   const double ball = summary_number(results("ball"), "contacts");
   for (const std::string clump : {"clump-D120R0.5", "clump-D130R0.4"})

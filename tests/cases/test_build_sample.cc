@@ -140,8 +140,8 @@ void BuildSample::check_conversion(const fs::path& base) {
 }
 
 void BuildSample::check_resumed_conversion(const fs::path& base) {
-  // Settles to its criterion (sleeper seated) after 35,500 steps of the equilibrium stage, which
-  // follows 5,340 steps of growth.
+  // Settles to its criterion (sleeper seated) after 26,000 steps of the equilibrium stage, which
+  // follows 5,251 steps of growth.
   auto sample_file = [&](const std::string& extra) {
     return write("resumable.prm",
                  "subsection zone\n  set preset = half-by-height\n  set base sample = " +
@@ -193,13 +193,14 @@ void BuildSample::check_resumed_conversion(const fs::path& base) {
   expect_error(run("resume " + out.string()), {"the sample build finished"});
   fs::remove_all(out);
 
-  // In the equilibrium (it starts at step 5,340), a checkpoint every millisecond, so one at every
-  // check (500 steps): killed (SIGKILL) at the check after step 36,340, whose checkpoint holds
-  // the sleeper's load and motion since the check before (the ratio was above the criterion
-  // there, for the last time, so they were not judged); stopped (SIGTERM) at step 40,340, two
-  // checks into the three in a row that end the stage. Either, lost, changes when it ends.
+  // In the equilibrium (it starts at step 5,251), a checkpoint every millisecond, so one at every
+  // check (500 steps): killed (SIGKILL) at the check after step 30,251 (the stage's 25,000),
+  // whose checkpoint holds the sleeper's load and motion since the check before (the ratio was
+  // above the criterion there, for the last time, so they were not judged); stopped (SIGTERM) at
+  // step 30,751 (the stage's 25,500), two checks into the three in a row that end the stage.
+  // Either, lost, changes when it ends.
   prm = sample_file("  set checkpoint interval = 0.001\n");
-  const Result killed = run_signalled(prm, 36341, SIGKILL);
+  const Result killed = run_signalled(prm, 30252, SIGKILL);
   EXPECT_TRUE(killed.code == -1 || killed.code == 128 + SIGKILL) << killed.code;
   ASSERT_TRUE(fs::exists(out / "checkpoint.h5"));
   // The sample file changed since: the parameter that differs, then and now.
@@ -215,13 +216,13 @@ void BuildSample::check_resumed_conversion(const fs::path& base) {
   fs::copy_file(dir_ / "base.h5", base / "sample.h5", fs::copy_options::overwrite_existing);
   const Result revived = run("resume " + out.string());
   ASSERT_EQ(revived.code, 0) << revived.err;
-  EXPECT_NE(revived.out.find("equilibrium stage at step 31000"), std::string::npos) << revived.out;
+  EXPECT_NE(revived.out.find("equilibrium stage at step 25000"), std::string::npos) << revived.out;
   expect_same_sample();
   fs::remove_all(out);
-  ASSERT_EQ(run_signalled(prm, 40340, SIGTERM).code, 130);
+  ASSERT_EQ(run_signalled(prm, 30751, SIGTERM).code, 130);
   const Result again = run("resume " + out.string());
   ASSERT_EQ(again.code, 0) << again.err;
-  EXPECT_NE(again.out.find("equilibrium stage at step 35000"), std::string::npos) << again.out;
+  EXPECT_NE(again.out.find("equilibrium stage at step 25500"), std::string::npos) << again.out;
   expect_same_sample();
 }
 

@@ -1,8 +1,10 @@
 // The trackbed executable as a user runs it: every kind of bad input stops with one line naming
 // the file/line or parameter and exits non-zero, leaving no partial output; a good run writes
 // its results folder and is reproducible bit for bit.
+#include <algorithm>
 #include <csignal>
 #include <cstdlib>
+#include <vector>
 
 #include "cli_fixture.h"
 
@@ -228,6 +230,41 @@ TEST_F(Resume, InterruptedOrKilledRunEndsAsTheUninterruptedOne) {
   const Result revived = run("resume " + (dir_ / "out").string());
   ASSERT_EQ(revived.code, 0) << revived.err;
   expect_same_results(dir_ / "whole", dir_ / "out");
+}
+
+// With snapshots on, a push test writes none in the hold, one where the push starts (the bed at
+// rest: a pilot zone's reference, docs/zones.md#pilot-zones), one every interval after it and one
+// at the end; a resumed run keeps that schedule.
+TEST_F(Resume, PushSnapshotsStartWithThePush) {
+  const fs::path f =
+      write("case.prm", pushing_case("subsection output\n  set snapshot interval = 0.03\nend\n"));
+  auto snapshot_steps = [&](const fs::path& out) {
+    std::vector<long> steps;
+    for (const auto& e : fs::directory_iterator(out / "snapshots"))
+      steps.push_back(std::atol(e.path().filename().string().c_str() + 6));  // state-NNNNNNNNN
+    std::sort(steps.begin(), steps.end());
+    return steps;
+  };
+  ASSERT_EQ(run("run " + f.string() + " --threads 2").code, 0);
+  const double dt = summary_number(dir_ / "out", "time_step_s");
+  const long start = std::lround(summary_number(dir_ / "out", "hold_time_s") / dt);
+  const long end = std::lround(summary_number(dir_ / "out", "steps"));
+  std::vector<long> expected;
+  for (long s = start, k = 1; s < end; s = start + std::lround(k++ * 0.03 / dt))
+    expected.push_back(s);
+  expected.push_back(end);
+  // A step or so either way: the clocks compare with half a step's tolerance.
+  const std::vector<long> whole = snapshot_steps(dir_ / "out");
+  ASSERT_EQ(whole.size(), expected.size());
+  for (std::size_t k = 0; k < whole.size(); ++k) EXPECT_NEAR(whole[k], expected[k], 1) << k;
+  fs::rename(dir_ / "out", dir_ / "whole");
+
+  // Stopped in the hold and resumed: the same snapshots.
+  ASSERT_EQ(run_signalled(f, 20000, SIGTERM).code, 130);
+  ASSERT_EQ(run("resume " + (dir_ / "out").string()).code, 0);
+  std::vector<long> resumed = snapshot_steps(dir_ / "out");
+  resumed.erase(std::remove(resumed.begin(), resumed.end(), 20000L), resumed.end());
+  EXPECT_EQ(resumed, whole);
 }
 
 TEST_F(Resume, WhatCannotBeResumedIsSaidInOneLine) {
