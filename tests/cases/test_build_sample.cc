@@ -122,6 +122,11 @@ void BuildSample::check_conversion(const fs::path& base) {
   EXPECT_GT(converted, 20);
   EXPECT_LT(converted, b.particles.num_bodies());
   EXPECT_EQ(summary_number(dir_ / "half", "clumps"), converted);
+  // The clumps settled without rolling resistance, as the material they grew in says; the sample
+  // names them ballast again, as the base sample named its balls (docs/samples.md).
+  EXPECT_EQ(b.materials, a.materials);
+  EXPECT_EQ(b.info_value("conversion/clump rolling friction"), "0");
+  for (int j = 0; j < b.particles.num_bodies(); ++j) EXPECT_EQ(b.particles.body_material[j], 0);
   // Same volume per stone: the grading by equivalent diameter is the base sample's, sieve by
   // sieve (columns size, target, sample, sample_equivalent_diameter, base).
   std::istringstream csv(slurp(dir_ / "half" / "grading.csv"));

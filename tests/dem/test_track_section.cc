@@ -132,4 +132,23 @@ TEST(TrackSection, TrimKeepsTheProfileAndClearsTheSleeper) {
 }
 
 }  // namespace
+// A conversion's stages add the clumps' material: the ballast without rolling resistance (the
+// paper's Table 2 gives it to balls only), so a ball-clump contact has none either, while the
+// balls keep theirs and the friction follows the stage.
+TEST(SectionModel, ClumpMaterialIsTheBallastWithoutRollingResistance) {
+  const SectionModel model(TrackSection{}, SectionMaterials{}, SimulationSettings{});
+  EXPECT_EQ(model.material_table().size(), 3);
+  const MaterialTable t = model.material_table(StageMaterials{0.5, 1, {}, true});
+  ASSERT_EQ(t.size(), 4);
+  const int c = SectionModel::kClumpMaterial;
+  EXPECT_EQ(t[c].name, SectionModel::kClumpMaterialName);
+  EXPECT_EQ(t[c].rolling_friction, 0.0);
+  EXPECT_EQ(t[c].friction, t[0].friction);
+  EXPECT_DOUBLE_EQ(t[0].friction, 0.25);
+  EXPECT_DOUBLE_EQ(t.pair(0, 0).mu_roll, 0.3);
+  EXPECT_EQ(t.pair(0, c).mu_roll, 0.0);
+  EXPECT_EQ(t.pair(c, c).mu_roll, 0.0);
+  EXPECT_EQ(t.pair(0, c).kn, t.pair(0, 0).kn);
+}
+
 }  // namespace trackbed::dem
