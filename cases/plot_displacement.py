@@ -47,15 +47,15 @@ def main(folder):
     r = vtu["point_data"]["radius"]
     push = sleeper_displacement(folder)
     top = 1e3 * push if push else float(np.percentile(d, 99))
-    fig, axes = plt.subplots(2, 1, figsize=(12, 7.5), gridspec_kw={"height_ratios": [1, 1]})
+    section = np.flatnonzero(np.abs(x[:, 1]) <= SECTION_HALF_WIDTH)
+    section = section[np.argsort(-x[section, 1] ** 2)]  # those nearest the middle on top
+    fig, axes = plt.subplots(2, 1, figsize=(12, 7.5))
     views = [
         (axes[0], np.argsort(x[:, 2]), 1, "y (m)", "from above (the highest elements on top)"),
-        (axes[1], np.flatnonzero(np.abs(x[:, 1]) <= SECTION_HALF_WIDTH), 2, "z (m)",
+        (axes[1], section, 2, "z (m)",
          "section along the sleeper, |y| <= %.0f mm" % (1e3 * SECTION_HALF_WIDTH)),
     ]
     for ax, pick, b, label, title in views:
-        if b == 2:
-            pick = pick[np.argsort(-x[pick, 1] ** 2)]  # those nearest the middle on top
         # Marker areas in points^2 from radii in m: the figure's scale, about 170 points per m.
         dots = ax.scatter(x[pick, 0], x[pick, b], c=np.minimum(d[pick], top), s=(170 * r[pick]) ** 2,
                           cmap="viridis", vmin=0, vmax=top, linewidths=0)
