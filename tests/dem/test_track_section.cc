@@ -131,7 +131,6 @@ TEST(TrackSection, TrimKeepsTheProfileAndClearsTheSleeper) {
   EXPECT_NEAR(sleeper_lift(p.subset(keep), s), 0.01, 1e-12);
 }
 
-}  // namespace
 // A conversion's stages add the clumps' material: the ballast without rolling resistance (the
 // paper's Table 2 gives it to balls only), so a ball-clump contact has none either, while the
 // balls keep theirs and the friction follows the stage.
@@ -151,4 +150,5 @@ TEST(SectionModel, ClumpMaterialIsTheBallastWithoutRollingResistance) {
   EXPECT_EQ(t.pair(0, c).kn, t.pair(0, 0).kn);
 }
 
+}  // namespace
 }  // namespace trackbed::dem
