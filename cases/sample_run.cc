@@ -80,15 +80,13 @@ dem::Sample SampleRun::convert(const dem::Sample& base, dem::ConversionCheckpoin
                                             fs::absolute(prm_.file).parent_path().string());
   auto templates =
       dem::read_template_library(prm_.templates, prm_.template_setting, prm_.mass_from);
-  int in_zone = 0;
-  for (int b = 0; b < base.particles.num_bodies(); ++b)
-    in_zone += dem::converts(base.particles, b, *zone);
-  std::cout << "trackbed: converting the " << in_zone << " balls (of "
+  const std::size_t template_count = templates.size();
+  dem::ClumpConversion conversion(base, zone, std::move(templates), prm_.conversion);
+  std::cout << "trackbed: converting the " << conversion.balls_in_zone() << " balls (of "
             << base.particles.num_bodies() << " bodies) in zone " << zone->to_string()
-            << " to clumps of " << templates.size() << " templates " << prm_.template_setting
+            << " to clumps of " << template_count << " templates " << prm_.template_setting
             << std::endl;
   report_pilots(*zone, from != nullptr);
-  dem::ClumpConversion conversion(base, zone, std::move(templates), prm_.conversion);
   connect(conversion.runner());
   conversion.runner().at_check = [&](const dem::StagePoint& at) { at_check(conversion, at); };
   // From here on Ctrl-C and SIGTERM end the build at the conversion's next check, with a

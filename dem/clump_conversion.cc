@@ -32,10 +32,6 @@ SimulationSettings settings_for(const ConversionSettings& c) {
 
 }  // namespace
 
-bool converts(const Particles& p, int b, const Zone& zone) {
-  return !p.is_clump[b] && zone.contains(p.x[b]);
-}
-
 ClumpConversion::ClumpConversion(const Sample& base, ZonePtr zone,
                                  std::vector<LibraryTemplate> templates,
                                  ConversionSettings settings)
@@ -55,6 +51,9 @@ ClumpConversion::ClumpConversion(const Sample& base, ZonePtr zone,
     pebble_volume_.push_back(sphere_union_mass_properties(t.clump.spheres).volume);
     pebble_sieve_size_.push_back(clump_sieve_size(t.clump));
   }
+  const Particles& p = base_.particles;
+  for (int b = 0; b < p.num_bodies(); ++b)
+    converts_.push_back(!p.is_clump[b] && zone_->contains(p.x[b]));
   if (base_.meshes.size() != 1 || base_.meshes[0].name != SectionModel::kSleeperName)
     throw InputError(
         "conversion: the base sample has no sleeper mesh; valid: a sample written "
@@ -70,12 +69,17 @@ Sample ClumpConversion::run(ConversionCheckpoint* from) {
   Sample out = model_.to_sample(*sim_, shape_of_id_, sieve_size_of_id_, names);
   // The sample's clumps are ballast again, as its balls: a case gives them the material it runs
   // them with ('particles/clump material'), as it does to clumps of any sample.
+  const int clump = model_.clump_material();
+  const auto as_ballast = [clump](int& m) {
+    if (m == clump)
+      m = 0;
+    else if (m > clump)
+      --m;
+  };
   Particles& q = out.particles;
-  for (int& m : q.body_material)
-    if (m == SectionModel::kClumpMaterial) m = 0;
-  for (int& m : q.material)
-    if (m == SectionModel::kClumpMaterial) m = 0;
-  out.materials.resize(SectionModel::kClumpMaterial);
+  for (int& m : q.body_material) as_ballast(m);
+  for (int& m : q.material) as_ballast(m);
+  out.materials.erase(out.materials.begin() + clump);
   for (const auto& [k, v] : base_.info)
     if (k.rfind("section/", 0) != 0 && k.rfind("material/", 0) != 0 && k != "zone")
       out.info.push_back({k, v});
@@ -96,11 +100,12 @@ void ClumpConversion::replace() {
   ClumpFitter fitter(p, model_.section(), bottom - model_.section().depth_under_sleeper);
   particles_ = Particles();
   double scale_sum = 0;
+  const int clump_material = model_.clump_material();
   for (int b = 0; b < p.num_bodies(); ++b) {
     const std::int64_t id = p.id[b];
     shape_of_id_[id] = base_.shape[b];
     sieve_size_of_id_[id] = base_.sieve_size[b];
-    if (!converts(p, b, *zone_)) {
+    if (!converts_[b]) {
       std::vector<SphereShape> elements;
       for (int e = p.first_element[b]; e < p.first_element[b + 1]; ++e)
         elements.push_back({p.offset[e], p.radius[e]});
@@ -139,8 +144,8 @@ void ClumpConversion::replace() {
     fitter.add(placed);
     particles_.add_body_with_elements(
         p.x[b], best_q, p.mass[b],
-        p.mass[b] * s * s / lib.clump.volume * lib.clump.principal_moments,
-        SectionModel::kClumpMaterial, true, id, elements);
+        p.mass[b] * s * s / lib.clump.volume * lib.clump.principal_moments, clump_material, true,
+        id, elements);
     start_scale_of_id_[id] = start;
     shape_of_id_[id] = t;
     sieve_size_of_id_[id] = s * pebble_sieve_size_[t];
@@ -160,6 +165,10 @@ void ClumpConversion::set_growth(double fraction) {
       p.radius[g.first_element + k] = f * g.full[k].radius;
     }
   }
+}
+
+int ClumpConversion::balls_in_zone() const {
+  return static_cast<int>(std::count(converts_.begin(), converts_.end(), true));
 }
 
 ConversionCheckpoint ClumpConversion::checkpoint(const StagePoint& at) const {

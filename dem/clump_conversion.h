@@ -59,15 +59,15 @@ struct ConversionCheckpoint {
   EngineState engine;
 };
 
-// Whether a conversion in `zone` turns body b of `p` into a clump: a ball whose centre lies in it.
-bool converts(const Particles& p, int b, const Zone& zone);
-
 class ClumpConversion {
  public:
   // The section and materials are those the base sample was built with (its info lines).
   ClumpConversion(const Sample& base, ZonePtr zone, std::vector<LibraryTemplate> templates,
                   ConversionSettings settings);
 
+  // How many of the base sample's bodies it turns into clumps: the balls whose centre lies in the
+  // zone.
+  int balls_in_zone() const;
   StageRunner& runner() { return runner_; }
   // The model of the finished sample (after run()), for its outputs.
   const Simulation& simulation() const { return *sim_; }
@@ -91,6 +91,7 @@ class ClumpConversion {
 
   const Sample& base_;
   ZonePtr zone_;
+  std::vector<bool> converts_;  // per body of the base sample: turned into a clump
   std::vector<LibraryTemplate> templates_;
   std::vector<double> pebble_volume_;      // per template: volume of its pebbles' union
   std::vector<double> pebble_sieve_size_;  // per template: sieve size of its pebbles

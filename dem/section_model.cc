@@ -57,6 +57,12 @@ MaterialTable SectionModel::material_table(const StageMaterials& stage) const {
   return t;
 }
 
+int SectionModel::clump_material() const {
+  StageMaterials stage;
+  stage.clump_material = true;
+  return material_table(stage).index_of(kClumpMaterialName);
+}
+
 namespace {
 
 PlaneWall plane(const std::string& name, const Vec3& point, const Vec3& normal, int material) {

@@ -31,8 +31,9 @@ struct StageMaterials {
   double friction_factor = 1;  // scales the ballast friction (and the ballast-sleeper friction)
   double rolling_factor = 1;   // scales the ballast rolling friction
   std::optional<double> local_damping;  // replaces the ballast local damping
-  // Adds SectionModel::kClumpMaterial, the ballast without rolling resistance, for the clumps of
-  // a conversion: the paper's contact model gives rolling resistance to balls only (Table 2).
+  // Adds the clumps' material (SectionModel::kClumpMaterialName), the ballast without rolling
+  // resistance, for the clumps of a conversion: the paper's contact model gives rolling resistance
+  // to balls only (Table 2).
   bool clump_material = false;
 };
 
@@ -88,9 +89,10 @@ class SectionModel {
   std::vector<std::pair<std::string, std::string>> info() const;
 
   static constexpr const char* kSleeperName = "sleeper";
-  // The index and name of the clumps' material in a table made with StageMaterials::clump_material.
-  static constexpr int kClumpMaterial = 3;
+  // The name of the clumps' material in a table made with StageMaterials::clump_material, and
+  // its index there (found by the name, so that the order of the table's materials is free).
   static constexpr const char* kClumpMaterialName = "ballast-clump";
+  int clump_material() const;
 
  private:
   TrackSection section_;

@@ -139,7 +139,7 @@ TEST(SectionModel, ClumpMaterialIsTheBallastWithoutRollingResistance) {
   EXPECT_EQ(model.material_table().size(), 3);
   const MaterialTable t = model.material_table(StageMaterials{0.5, 1, {}, true});
   ASSERT_EQ(t.size(), 4);
-  const int c = SectionModel::kClumpMaterial;
+  const int c = model.clump_material();
   EXPECT_EQ(t[c].name, SectionModel::kClumpMaterialName);
   EXPECT_EQ(t[c].rolling_friction, 0.0);
   EXPECT_EQ(t[c].friction, t[0].friction);
