@@ -109,10 +109,12 @@ void declare(ParameterHandler& prm) {
 
   const dem::ConversionSettings c;
   prm.enter_subsection("zone");
-  prm.declare_entry("preset", "all-ball", Selection(kPresets),
-                    "Clumps where: all-ball (none), all-clump (all), half-by-height (above "
-                    "265/350 of the depth under the sleeper), optimised (under and beside the "
-                    "sleeper and the shoulder wedge at the pushed +x end), custom (clump zone)");
+  prm.declare_entry(
+      "preset", "all-ball", Selection(kPresets),
+      "Clumps where: all-ball (none), all-clump (all), half-by-height (above "
+      "265/350 of the depth under the sleeper), optimised (a geometric zone: under and "
+      "beside the sleeper and the shoulder wedge at the pushed +x end; the shipped "
+      "optimised cases take theirs from a pilot push instead), custom (clump zone)");
   prm.declare_entry("clump zone", "", Anything(),
                     "Zone expression (docs/zones.md) when preset = custom");
   prm.declare_entry("base sample", "", Anything(),

@@ -31,11 +31,13 @@ class Study : public Cli {
   }
   // The shipped sample file `name` on the base sample of the work folder (file values are
   // relative to the case that is run, so the included file's base sample and templates are
-  // given again).
-  void build_converted_sample(const std::string& name) {
+  // given again). A pilot zone's run is `pilot_run` of the work folder (pilot_zone_of).
+  void build_converted_sample(const std::string& name, const std::string& pilot_run = "") {
+    const std::string file = source_ + "/cases/samples/" + name + ".prm";
     const Result r = run_including(
-        "build-sample", source_ + "/cases/samples/" + name + ".prm",
+        "build-sample", file,
         "subsection zone\n  set base sample = " + (sample(base_) / "sample.h5").string() +
+            (pilot_run.empty() ? "" : "\n  set clump zone = " + pilot_zone_of(file, pilot_run)) +
             "\n  set templates = " + source_ +
             "/cases/templates/ballast/library.csv\nend\n"
             "subsection output\n  set plot = false\n  set vtu = false\nend\n",
@@ -43,18 +45,30 @@ class Study : public Cli {
     ASSERT_EQ(r.code, 0) << r.out << r.err;
   }
   // Runs the shipped small case of `model` on its sample, checks that it finished and returns its
-  // results folder (checks that need it come after, then check_reference_of(model)).
-  fs::path run_model(const std::string& model) {
-    const Result r = run_including("run", source_ + "/cases/" + study_ + "/small/" + model + ".prm",
-                                   "subsection particles\n  set sample file = " +
-                                       (sample(sample_of_.at(model)) / "sample.h5").string() +
-                                       "\nend\nsubsection output\n  set plot = false\nend\n",
-                                   results(model));
+  // results folder (checks that need it come after, then check_reference_of(model)). With `plot`
+  // the run draws its pictures as a user's run does ('output/plot'), and none of them may fail.
+  fs::path run_model(const std::string& model, bool plot = false) {
+    const Result r = run_including(
+        "run", source_ + "/cases/" + study_ + "/small/" + model + ".prm",
+        "subsection particles\n  set sample file = " +
+            (sample(sample_of_.at(model)) / "sample.h5").string() +
+            "\nend\nsubsection output\n  set plot = " + (plot ? "true" : "false") + "\nend\n",
+        results(model));
     EXPECT_EQ(r.code, 0) << r.out << r.err;
+    EXPECT_EQ(r.out.find("the plot failed"), std::string::npos) << r.out;
     const fs::path out = results(model);
     EXPECT_TRUE(fs::exists(out / "push.csv"));
     EXPECT_NE(slurp(out / "summary.json").find("\"status\": \"finished\""), std::string::npos);
     return out;
+  }
+  // The clump zone of sample file `file`, a pilot(FOLDER, ...) term, with its pilot run's folder
+  // replaced by the results of `model` in the work folder.
+  std::string pilot_zone_of(const std::string& file, const std::string& model) const {
+    std::smatch m;
+    const std::string text = slurp(file);
+    const std::regex zone(R"(set clump zone\s*=\s*pilot\([^,]*(,[^)]*\)))");
+    EXPECT_TRUE(std::regex_search(text, m, zone)) << file << ": no pilot(...) clump zone";
+    return "pilot(" + results(model).string() + m[1].str();
   }
   void check_reference_of(const std::string& model) {
     check_reference(source_ + "/tests/cases/reference/" + study_ + "_small.csv", model,
