@@ -69,6 +69,7 @@ Sample ClumpConversion::run(ConversionCheckpoint* from) {
   Sample out = model_.to_sample(*sim_, shape_of_id_, sieve_size_of_id_, names);
   // The sample's clumps are ballast again, as its balls: a case gives them the material it runs
   // them with ('particles/clump material'), as it does to clumps of any sample.
+  // Clump material to the ballast (the table's first material), the ones after it one down.
   const int clump = model_.clump_material();
   const auto as_ballast = [clump](int& m) {
     if (m == clump)

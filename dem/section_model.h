@@ -90,7 +90,7 @@ class SectionModel {
 
   static constexpr const char* kSleeperName = "sleeper";
   // The name of the clumps' material in a table made with StageMaterials::clump_material, and
-  // its index there (found by the name, so that the order of the table's materials is free).
+  // its index there (found by the name, not by the order of material_table's add() calls).
   static constexpr const char* kClumpMaterialName = "ballast-clump";
   int clump_material() const;
 
