@@ -127,6 +127,9 @@ void declare(ParameterHandler& prm) {
                     "Clump volume and inertia from the stone surface (PFC) or the pebble union");
   prm.declare_entry("growth time", default_text(c.growth_time), Double(1e-4, 10),
                     "s over which converted clumps grow to full size");
+  prm.declare_entry("growth step", "probe", Selection("probe|renewed"),
+                    "Step of the growth: the critical step of the fully grown clumps where their "
+                    "balls are (probe), or of the model as it stands, renewed every 500 steps");
   prm.declare_entry("growth friction factor", default_text(c.growth_friction_factor), Double(0, 1),
                     "Ballast friction and rolling factor while the clumps grow");
   prm.declare_entry("orientation trials", std::to_string(c.orientation_trials), Integer(1, 1000),
@@ -135,6 +138,9 @@ void declare(ParameterHandler& prm) {
                     "Mean unbalanced force ratio of the converted sample");
   prm.declare_entry("maximum settling time", default_text(c.max_stage_time), Double(1e-3, 1e3),
                     "s simulated for the final equilibrium at most");
+  prm.declare_entry("settling step factor", default_text(c.settling_step_factor), Double(1, 100),
+                    "Step of the final equilibrium in units of the grown bed's own; above 1 the "
+                    "bodies that need it are density scaled (docs/samples.md)");
   prm.declare_entry("seed", "1", Integer(0), "Seed of the template choice and orientations");
   prm.leave_subsection();
 
@@ -274,9 +280,12 @@ SampleParameters read_sample_file(const std::string& path) {
       prm.get("mass from") == "surface" ? dem::MassSource::surface : dem::MassSource::pebbles;
   p.conversion.growth_time = prm.get_double("growth time");
   p.conversion.growth_friction_factor = prm.get_double("growth friction factor");
+  p.conversion.growth_step =
+      prm.get("growth step") == "probe" ? dem::GrowthStep::probe : dem::GrowthStep::renewed;
   p.conversion.orientation_trials = prm.get_integer("orientation trials");
   p.conversion.equilibrium_ratio = prm.get_double("equilibrium ratio");
   p.conversion.max_stage_time = prm.get_double("maximum settling time");
+  p.conversion.settling_step_factor = prm.get_double("settling step factor");
   p.conversion.seed = prm.get_integer("seed");
   p.conversion.skin = b.skin;
   prm.leave_subsection();

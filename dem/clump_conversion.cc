@@ -45,6 +45,7 @@ ClumpConversion::ClumpConversion(const Sample& base, ZonePtr zone,
   check_range("conversion: growth interval", settings_.growth_interval, 1, 1e6);
   check_range("conversion: growth friction factor", settings_.growth_friction_factor, 0, 1);
   check_range("conversion: equilibrium ratio", settings_.equilibrium_ratio, 1e-8, 0.5);
+  check_range("conversion: settling step factor", settings_.settling_step_factor, 1, 100);
   if (templates_.empty())
     throw InputError("conversion: no clump templates; valid: a library setting with templates");
   for (const LibraryTemplate& t : templates_) {
@@ -88,6 +89,10 @@ Sample ClumpConversion::run(ConversionCheckpoint* from) {
   out.info.push_back({"conversion/templates", templates_.front().setting});
   out.info.push_back({"conversion/seed", std::to_string(settings_.seed)});
   out.info.push_back({"conversion/clump rolling friction", "0"});
+  out.info.push_back(
+      {"conversion/growth step", settings_.growth_step == GrowthStep::probe ? "probe" : "renewed"});
+  out.info.push_back(
+      {"conversion/settling step factor", std::to_string(settings_.settling_step_factor)});
   return out;
 }
 
@@ -185,14 +190,18 @@ ConversionCheckpoint ClumpConversion::checkpoint(const StagePoint& at) const {
 void ClumpConversion::grow(ConversionCheckpoint* from) {
   const StageMaterials growing{
       settings_.growth_friction_factor, settings_.growth_friction_factor, {}, true};
-  // The step must suit the grown clumps: the critical step of the full-size model, whose
-  // overlaps a probe model tolerates (it is never stepped).
-  SimulationSettings probe_settings = settings_for(settings_);
-  probe_settings.initial_overlap_ratio = 1e9;
-  SectionModel probe_model(model_.section(), model_.materials(), probe_settings);
-  Simulation probe = probe_model.make(particles_, {false, true}, growing, base_.meshes.front());
-  probe.setup();
-  const double dt = settings_.critical_fraction * probe.critical_timestep();
+  const bool renewed = settings_.growth_step == GrowthStep::renewed;
+  double dt = std::numeric_limits<double>::infinity();
+  if (!renewed) {
+    // The step must suit the grown clumps: the critical step of the full-size model, whose
+    // overlaps a probe model tolerates (it is never stepped).
+    SimulationSettings probe_settings = settings_for(settings_);
+    probe_settings.initial_overlap_ratio = 1e9;
+    SectionModel probe_model(model_.section(), model_.materials(), probe_settings);
+    Simulation probe = probe_model.make(particles_, {false, true}, growing, base_.meshes.front());
+    probe.setup();
+    dt = settings_.critical_fraction * probe.critical_timestep();
+  }
 
   sim_ = std::make_unique<Simulation>(
       model_.make(particles_, {false, true}, growing, base_.meshes.front()));
@@ -230,22 +239,37 @@ void ClumpConversion::grow(ConversionCheckpoint* from) {
     return;
   }
   StagePoint start;
+  StepRenewal renewal;
+  renewal.began = sim_->time();
   if (from) {
     sim_->restore_engine_state(std::move(from->engine));
     start = from->point;
   }
+  if (renewed)
+    // The critical step of the model as it stands, renewed at every check (500 steps, in which
+    // the clumps grow by well under a thousandth of their size): the clumps touch their
+    // neighbours as they grow, not as the probe's full-size clumps in the balls' places.
+    renewal.renew = [fraction = settings_.critical_fraction](Simulation& sim) {
+      sim.set_time_step(fraction * sim.critical_timestep());
+    };
 
   stage_ = 0;
   const int interval = settings_.growth_interval;
-  const long steps = static_cast<long>(std::ceil(settings_.growth_time / sim_->time_step()));
+  const double duration = settings_.growth_time;
+  const long steps = static_cast<long>(std::ceil(duration / sim_->time_step()));
+  // Linear in time: by the steps of the fixed step, by the clock of a renewed one.
+  auto fraction_after = [&](long step) {
+    return renewed ? (sim_->time() - renewal.began + interval * sim_->time_step()) / duration
+                   : static_cast<double>(step + interval) / steps;
+  };
   report_.stages.push_back(runner_.run_for(
-      *sim_, "clump growth", settings_.growth_time,
+      *sim_, "clump growth", duration,
       [&](long step) {
         if (step % interval != 0) return;
-        set_growth(static_cast<double>(step + interval) / steps);
+        set_growth(fraction_after(step));
         sim_->particles_changed();
       },
-      start));
+      start, 500, renewal));
   set_growth(1);
   sim_->particles_changed();
 }
@@ -258,19 +282,38 @@ void ClumpConversion::settle(ConversionCheckpoint* from) {
   model_.require_seated_sleeper(settled_);
   model_.release_sleeper_when_carried(settled_);
   StagePoint start;
+  // The grown bed's own estimate, as a case takes at its setup: about twice the probe's growth
+  // step (every clump at full size where its ball was, deep in its neighbours, touches several
+  // times the stiffness it touches in the grown bed; docs/samples.md, "Time step"). Density
+  // scaling allows a multiple of it.
+  double dt =
+      settings_.settling_step_factor * settings_.critical_fraction * sim_->critical_timestep();
   if (from) {
-    sim_->restore_engine_state(std::move(from->engine));  // with the step it was taking
+    sim_->restore_engine_state(std::move(from->engine));
+    dt = sim_->time_step();  // the step it was taking
     settled_.restore_memory(from->criterion_memory);
     start = from->point;
-  } else {
-    // The growth took the probe's step: every clump at full size where its ball was, deep in its
-    // neighbours, touches several times the stiffness it touches in the grown bed. The grown
-    // bed's own estimate, as a case takes at its setup, allows about twice that step
-    // (docs/samples.md, "Time step").
-    sim_->set_time_step(settings_.critical_fraction * sim_->critical_timestep());
   }
+  if (settings_.settling_step_factor > 1)
+    scale_density_at_checks(dt, start.steps);
+  else
+    sim_->set_time_step(dt);
   stage_ = 1;
   report_.stages.push_back(runner_.settle(*sim_, "equilibrium", settled_, start));
+  sim_->end_density_scaling();
+}
+
+void ClumpConversion::scale_density_at_checks(double dt, long steps_done) {
+  // Renewed at the checks, where a checkpoint is taken: a resumed stage scales from the same
+  // state as the uninterrupted one, bit for bit.
+  const double fraction = settings_.critical_fraction;
+  sim_->scale_density_for_step(dt, fraction);
+  auto steps = std::make_shared<long>(steps_done);
+  settled_.each_step = [record = std::move(settled_.each_step), steps, fraction,
+                        interval = settled_.check_interval](Simulation& sim) {
+    if (record) record(sim);
+    if (++*steps % interval == 0) sim.scale_density_for_step(sim.time_step(), fraction);
+  };
 }
 
 }  // namespace trackbed::dem

@@ -27,9 +27,14 @@
 
 namespace trackbed::dem {
 
+// The growth's step: the critical step of the full-size clumps where their balls are, fixed (a
+// probe model); or that of the model as it stands, renewed at every check.
+enum class GrowthStep { probe, renewed };
+
 struct ConversionSettings {
-  double growth_time = 0.1;           // s simulated over which the clumps grow to full size
-  int growth_interval = 50;           // steps between two growth increments
+  double growth_time = 0.1;  // s simulated over which the clumps grow to full size
+  int growth_interval = 50;  // steps between two growth increments
+  GrowthStep growth_step = GrowthStep::probe;
   double growth_friction_factor = 1;  // ballast friction (and rolling) factor while growing
   int orientation_trials = 16;        // random orientations tried per clump (clump_fitting.h)
   double preparation_damping = 0.3;   // normal dashpot ratio while converting (section_model.h)
@@ -38,6 +43,10 @@ struct ConversionSettings {
   double equilibrium_ratio = 1e-3;
   double max_stage_time = 4.0;     // s simulated for the final settling at most
   double critical_fraction = 0.8;  // of the critical step of the converted model
+  // The final settling's step in units of critical_fraction x the grown bed's critical step;
+  // above 1 the bodies that need it are density scaled to take it (Simulation::
+  // scale_density_for_step), their scaling renewed at every check.
+  double settling_step_factor = 1;
   double skin = 0.004;
   std::uint64_t seed = 1;
 };
@@ -87,6 +96,9 @@ class ClumpConversion {
   void replace();
   void grow(ConversionCheckpoint* from);
   void settle(ConversionCheckpoint* from);
+  // Density scales the settling model for step dt, again at every check of the stage, of which
+  // `steps_done` steps are done.
+  void scale_density_at_checks(double dt, long steps_done);
   void set_growth(double fraction);
 
   const Sample& base_;

@@ -7,12 +7,12 @@ namespace trackbed::dem {
 
 namespace {
 
-StageReport report_of(const Simulation& sim, const std::string& stage, long steps, double wall,
-                      double ratio, bool converged) {
+StageReport report_of(const Simulation& sim, const std::string& stage, long steps, double time,
+                      double wall, double ratio, bool converged) {
   StageReport r;
   r.name = stage;
   r.steps = steps;
-  r.simulated_time = steps * sim.time_step();
+  r.simulated_time = time;
   r.wall_time = wall;
   r.final_ratio = ratio;
   r.converged = converged;
@@ -30,8 +30,7 @@ double seconds_since(std::chrono::steady_clock::time_point t) {
 }  // namespace
 
 void StageRunner::check(const Simulation& sim, const std::string& stage, long steps, long first,
-                        double ratio, Clock::time_point start, double max_time) {
-  const double t = steps * sim.time_step();
+                        double t, double ratio, Clock::time_point start, double max_time) {
   const double ke = sim.particles().kinetic_energy();
   const bool sleeper = !sim.meshes().empty();
   if (on_sample)
@@ -69,23 +68,34 @@ StageReport StageRunner::settle(Simulation& sim, const std::string& stage, const
     ratio = sim.unbalanced_force_ratio();
     if (at.steps >= min_steps)
       at.below = ratio <= c.ratio && (!c.also || c.also(sim)) ? at.below + 1 : 0;
-    check(sim, stage, at.steps, from.steps, ratio, start, c.max_time);
-    if (at.below >= c.confirmations) return report_of(sim, stage, at.steps, wall(), ratio, true);
+    const double t = at.steps * sim.time_step();
+    check(sim, stage, at.steps, from.steps, t, ratio, start, c.max_time);
+    if (at.below >= c.confirmations) return report_of(sim, stage, at.steps, t, wall(), ratio, true);
     at.wall_time = wall();
     if (at_check) at_check(at);
   }
-  return report_of(sim, stage, at.steps, wall(), ratio, false);
+  return report_of(sim, stage, at.steps, at.steps * sim.time_step(), wall(), ratio, false);
 }
 
 StageReport StageRunner::run_for(Simulation& sim, const std::string& stage, double duration,
                                  const std::function<void(long)>& each_step, const StagePoint& from,
-                                 int check_interval) {
+                                 int check_interval, const StepRenewal& renewal) {
   const auto start = Clock::now();
   if (!sim.is_set_up()) sim.setup();
-  const long n = static_cast<long>(std::ceil(duration / sim.time_step()));
+  long n = static_cast<long>(std::ceil(duration / sim.time_step()));
   StagePoint at = from;
+  // The stage's time: its steps at a fixed step; the clock's advance when the step changes.
+  auto time = [&] {
+    return renewal.renew ? sim.time() - renewal.began : at.steps * sim.time_step();
+  };
+  auto renew = [&] {
+    if (!renewal.renew) return;
+    renewal.renew(sim);
+    n = at.steps + static_cast<long>(std::ceil((duration - time()) / sim.time_step()));
+  };
   auto wall = [&] { return from.wall_time + seconds_since(start); };
   double ratio = NAN;
+  renew();
   while (at.steps < n) {
     for (int k = 0; k < check_interval && at.steps < n; ++k, ++at.steps) {
       if (each_step) each_step(at.steps);
@@ -93,11 +103,14 @@ StageReport StageRunner::run_for(Simulation& sim, const std::string& stage, doub
     }
     sim.check_finite();
     ratio = sim.unbalanced_force_ratio();
-    check(sim, stage, at.steps, from.steps, ratio, start, duration);
+    check(sim, stage, at.steps, from.steps, time(), ratio, start, duration);
     at.wall_time = wall();
-    if (at_check && at.steps < n) at_check(at);
+    if (at.steps < n) {
+      if (at_check) at_check(at);
+      renew();
+    }
   }
-  return report_of(sim, stage, n, wall(), ratio, true);
+  return report_of(sim, stage, at.steps, time(), wall(), ratio, true);
 }
 
 }  // namespace trackbed::dem

@@ -63,6 +63,13 @@ struct SettleSample {
   double sleeper_z, sleeper_load;
 };
 
+// A timed stage whose step changes as it goes (StageRunner::run_for).
+struct StepRenewal {
+  // Called at the start of the stage and at every check (after at_check): may set another step.
+  std::function<void(Simulation&)> renew;
+  double began = 0;  // the model's clock when the stage began, s
+};
+
 class StageRunner {
  public:
   // Called at every check (history) and, at most every `progress_seconds` of wall time, with a
@@ -80,17 +87,19 @@ class StageRunner {
   StageReport settle(Simulation& sim, const std::string& stage, const SettleCriterion& c,
                      const StagePoint& from = {});
   // Steps `sim` for a fixed simulated time, calling `each_step(step index)` before every step
-  // (a growth schedule, a moving boundary), with the same history and progress.
+  // (a growth schedule, a moving boundary), with the same history and progress. At a fixed step
+  // the stage takes ceil(duration / step) steps; with a renewal, the steps left are counted again
+  // from the time left, the model's clock less `renewal.began`, whenever it renews the step.
   StageReport run_for(Simulation& sim, const std::string& stage, double duration,
                       const std::function<void(long)>& each_step, const StagePoint& from = {},
-                      int check_interval = 500);
+                      int check_interval = 500, const StepRenewal& renewal = {});
 
  private:
   using Clock = std::chrono::steady_clock;
   // The history row and the progress line (its rate over the steps of this process, from
   // `first`).
-  void check(const Simulation& sim, const std::string& stage, long steps, long first, double ratio,
-             Clock::time_point start, double max_time);
+  void check(const Simulation& sim, const std::string& stage, long steps, long first, double time,
+             double ratio, Clock::time_point start, double max_time);
   Clock::time_point last_progress_{};
 };
 

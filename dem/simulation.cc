@@ -657,6 +657,7 @@ void Simulation::apply_body_loads_and_integrate() {
 #pragma omp for schedule(static)
     for (int b = 0; b < nb; ++b) {
       const double m = p_.mass[b];
+      const double scale = inertia_scale(b);  // density scaling: accelerated as s m, s I
       const double alpha = materials_[p_.body_material[b]].local_damping;
       Vec3 F = p_.f[b] + m * g;
       Vec3 M = p_.t[b];
@@ -671,17 +672,18 @@ void Simulation::apply_body_loads_and_integrate() {
         F += Fd;
         M += Md;
       }
-      p_.v[b] += F * (dt / m);
+      p_.v[b] += F * (dt / (scale * m));
       const Vec3 dx = p_.v[b] * dt;
       p_.x[b] += dx;
       my_gravity_work += m * g.dot(dx);
       if (p_.is_clump[b]) {
-        p_.L[b] += M * dt;
+        // L stays the true I w: d(s I w)/dt = M.
+        p_.L[b] += M * (dt / scale);
         // w = R I^-1 R^T L, with R^T L as the free rotation leaves it.
         const Vec3 pi = free_rotation(p_.q[b], p_.L[b], p_.inertia[b], dt);
         p_.w[b] = p_.q[b] * pi.cwiseQuotient(p_.inertia[b]);
       } else {
-        p_.w[b] += M * (dt / p_.inertia[b][0]);
+        p_.w[b] += M * (dt / (scale * p_.inertia[b][0]));
       }
       my_local -= Fd.dot(dx) + Md.dot(p_.w[b]) * dt;
     }
@@ -737,6 +739,27 @@ void Simulation::step() {
 // Diagnostics
 
 double Simulation::critical_timestep() const {
+  const std::vector<double> steps = body_critical_steps();
+  double dt = std::numeric_limits<double>::infinity();
+  for (int b = 0; b < static_cast<int>(steps.size()); ++b)
+    dt = std::min(dt, steps[b] * std::sqrt(inertia_scale(b)));
+  return dt;
+}
+
+double Simulation::scale_density_for_step(double dt, double fraction) {
+  // sqrt(s m / k) = sqrt(s) t_b: the body's step is fraction sqrt(s) t_b >= dt.
+  const std::vector<double> steps = body_critical_steps();
+  inertia_scale_.assign(steps.size(), 1.0);
+  double largest = 1;
+  for (std::size_t b = 0; b < steps.size(); ++b) {
+    inertia_scale_[b] = std::max(1.0, std::pow(dt / (fraction * steps[b]), 2));
+    largest = std::max(largest, inertia_scale_[b]);
+  }
+  set_time_step(dt);
+  return largest;
+}
+
+std::vector<double> Simulation::body_critical_steps() const {
   // Stiffness per body and DOF, summed over its contacts with K = k_n n n^T + k_s (I - n n^T):
   // translation along e_a: e_a^T K e_a; rotation about e_a: u^T K u with u = e_a x lever (the
   // contact point's displacement per unit rotation), plus the rolling stiffness k_s R_eff^2.
@@ -774,7 +797,7 @@ double Simulation::critical_timestep() const {
     add(p_.body[e], materials_.pair(meshes_[m].material, p_.material[e]), pt.normal,
         pt.point - p_.x[p_.body[e]], p_.radius[e]);
   });
-  double dt = std::numeric_limits<double>::infinity();
+  std::vector<double> steps(nb);
   for (int b = 0; b < nb; ++b) {
     if (kt[b].maxCoeff() == 0) {
       // A body touching nothing yet: one contact with its own material, its first touch.
@@ -783,11 +806,11 @@ double Simulation::critical_timestep() const {
       kt[b].setConstant(std::max(pr.kn, pr.ks));
       kr[b].setConstant(pr.ks * std::pow((p_.pos[e] - p_.x[b]).norm() + p_.radius[e], 2));
     }
-    dt = std::min(dt, std::sqrt(p_.mass[b] / kt[b].maxCoeff()));
+    steps[b] = std::sqrt(p_.mass[b] / kt[b].maxCoeff());
     if (kr[b].maxCoeff() > 0)
-      dt = std::min(dt, std::sqrt(p_.inertia[b].minCoeff() / kr[b].maxCoeff()));
+      steps[b] = std::min(steps[b], std::sqrt(p_.inertia[b].minCoeff() / kr[b].maxCoeff()));
   }
-  return dt;
+  return steps;
 }
 
 double Simulation::closing_wall_work() const {

@@ -112,8 +112,19 @@ class Simulation {
   int mesh_index(const std::string& name) const;
 
   // PFC's estimate: min over bodies and degrees of freedom of sqrt(m/k) and sqrt(I/k_rot) with
-  // the stiffness summed over the body's current contacts (a body with none: one contact).
+  // the stiffness summed over the body's current contacts (a body with none: one contact), with
+  // the scaled mass and inertia while density scaling is on.
   double critical_timestep() const;
+  // Density scaling (PFC's, for quasi-static runs; docs/theory.md, "Density scaling"): the mass
+  // and inertia with which every body accelerates become s_b times its own, with s_b the smallest
+  // factor >= 1 that makes `dt` at most `fraction` of the body's critical step with its current
+  // contacts; then the step is set to `dt`. Gravity and the unbalanced force ratio keep the true
+  // masses, so a static equilibrium is that of the unscaled model; the motion towards it is not
+  // physical, nor is the energy budget. Call again as contacts change; end_density_scaling()
+  // returns to the true inertia. Returns the largest factor.
+  double scale_density_for_step(double dt, double fraction);
+  void end_density_scaling() { inertia_scale_.clear(); }
+  bool density_scaled() const { return !inertia_scale_.empty(); }
   EnergyBudget energy() const;
   int num_contacts() const;  // touching pairs and wall contacts of the last step
   int num_neighbor_builds() const { return builds_; }
@@ -170,6 +181,10 @@ class Simulation {
   // contacts with that mesh, the history slot).
   template <class Visitor>
   void visit_mesh_contacts(Visitor&& visit) const;
+  // Per body, the smallest of sqrt(m/k) and sqrt(I/k_rot) over its degrees of freedom, with
+  // its true mass and inertia (critical_timestep()).
+  std::vector<double> body_critical_steps() const;
+  double inertia_scale(int b) const { return inertia_scale_.empty() ? 1.0 : inertia_scale_[b]; }
   [[noreturn]] void runaway(int ei, int ej, double ratio, const std::string& other) const;
   bool consistent_lists(const EngineState& s, std::size_t nwalls) const;
 
@@ -184,6 +199,7 @@ class Simulation {
   std::vector<WallHistory> plane_history_;
   std::vector<Vec3> pos_at_build_;
   std::vector<double> radius_at_build_;
+  std::vector<double> inertia_scale_;  // per body, density scaling; empty: none
   double growth_since_build_ = 0;  // largest radius growth since the last build (particles_changed)
   std::vector<Vec3> plane_point_at_build_;  // planes, then mesh reference points
   std::vector<Quat> mesh_q_at_build_;

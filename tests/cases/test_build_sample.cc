@@ -147,12 +147,14 @@ void BuildSample::check_conversion(const fs::path& base) {
 void BuildSample::check_resumed_conversion(const fs::path& base) {
   // Settles to its criterion (sleeper seated) after 26,000 steps of the equilibrium stage, which
   // follows 5,251 steps of growth.
-  auto sample_file = [&](const std::string& extra) {
+  auto sample_file = [&](const std::string& extra, const std::string& zone_extra = "") {
     return write("resumable.prm",
                  "subsection zone\n  set preset = half-by-height\n  set base sample = " +
                      (base / "sample.h5").string() + "\n  set templates = " + TRACKBED_SOURCE_DIR +
                      "/cases/templates/ballast/library.csv\n  set growth time = 0.02\n"
-                     "  set equilibrium ratio = 0.05\n  set maximum settling time = 0.3\nend\n"
+                     "  set equilibrium ratio = 0.05\n  set maximum settling time = 0.3\n" +
+                     zone_extra +
+                     "end\n"
                      "subsection build\n  set threads = 1\nend\n"
                      "subsection output\n  set folder = " +
                      (dir_ / "resumable").string() + "\n  set plot = false\n" + extra + "end\n");
@@ -229,6 +231,32 @@ void BuildSample::check_resumed_conversion(const fs::path& base) {
   ASSERT_EQ(again.code, 0) << again.err;
   EXPECT_NE(again.out.find("equilibrium stage at step 25500"), std::string::npos) << again.out;
   expect_same_sample();
+
+  // A step that changes as the stages go (the full-size all-clump sample's settings): the growth
+  // at the critical step of the model as it stands, the settling density scaled to three times
+  // its step, both renewed at every check. Stopped in either stage, resumed, the same sample.
+  fs::remove_all(out);
+  fs::remove_all(whole);
+  prm = sample_file("  set checkpoint interval = 0.001\n",
+                    "  set growth step = renewed\n  set settling step factor = 3\n");
+  ASSERT_EQ(run("build-sample " + prm.string()).code, 0);
+  const std::string summary = slurp(out / "summary.json");
+  std::smatch growth;
+  ASSERT_TRUE(
+      std::regex_search(summary, growth, std::regex("\"clump growth\", \"steps\": (\\d+)")));
+  const long growth_steps = std::stol(growth[1]);
+  // Fewer steps than the probe's fixed step took (5,251).
+  EXPECT_LT(growth_steps, 4000);
+  EXPECT_EQ(read_sample((out / "sample.h5").string()).info_value("conversion/growth step"),
+            "renewed");
+  fs::rename(out, whole);
+  for (long step : {growth_steps / 2, growth_steps + 2001}) {
+    ASSERT_EQ(run_signalled(prm, step, SIGTERM).code, 130) << step;
+    const Result resumed_here = run("resume " + out.string());
+    ASSERT_EQ(resumed_here.code, 0) << resumed_here.err;
+    expect_same_sample();
+    fs::remove_all(out);
+  }
 }
 
 void BuildSample::check_case_loading(const fs::path& base) {

@@ -1,6 +1,8 @@
 // Static equilibrium: wall reactions carry the weight of a column and of a packed box.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "dem/random_packing.h"
 #include "sim_builder.h"
 
@@ -85,6 +87,62 @@ TEST(StaticEquilibrium, PackedBoxReactionsEqualWeight) {
   EXPECT_NEAR(total.y(), 0, 1e-3 * w);
   // The side walls really are loaded (a granular bed pushes sideways).
   EXPECT_GT(sim.planes()[3].force.x(), 0.01 * w);
+}
+
+// Density scaling (Simulation::scale_density_for_step) lets a column of small and large balls
+// take three times the step its smallest ball allows and rests where the unscaled column rests:
+// gravity keeps the true masses, so the static equilibrium is the same.
+TEST(StaticEquilibrium, DensityScaledColumnRestsWhereTheUnscaledOneRests) {
+  auto column = [] {
+    MaterialTable t;
+    t.add(damped_ballast());
+    Particles p;
+    double z = 0;
+    for (int i = 0; i < 8; ++i) {
+      const double r = i % 2 ? 0.01 : 0.03;
+      p.add_ball(Vec3(0, 0, z + r), r, 0, 2800, i);
+      z += 2 * r;
+    }
+    SimulationSettings s;
+    s.time_step = 1e-6;
+    Simulation sim(std::move(t), std::move(p), s);
+    sim.add_plane(floor_at(0));
+    sim.setup();
+    return sim;
+  };
+  const double fraction = 0.8;
+  Simulation reference = column();
+  reference.set_time_step(fraction * reference.critical_timestep());
+  run_for(reference, 1.0);
+
+  Simulation scaled = column();
+  const double dt = 3 * fraction * scaled.critical_timestep();
+  EXPECT_THROW(scaled.set_time_step(dt), InputError);  // above the unscaled critical step
+  // The smallest step's ball needs a factor 9.
+  EXPECT_GE(scaled.scale_density_for_step(dt, fraction), 9 * (1 - 1e-12));
+  EXPECT_EQ(scaled.time_step(), dt);
+  EXPECT_GE(fraction * scaled.critical_timestep(), dt * (1 - 1e-12));
+  for (int block = 0; block < 20; ++block) {  // renewed as in a conversion's settling
+    run_for(scaled, 0.05);
+    scaled.scale_density_for_step(dt, fraction);
+  }
+  const double w = total_weight(scaled.particles(), 9.81);
+  EXPECT_NEAR(-scaled.planes()[0].force.z(), w, 1e-3 * w);
+  EXPECT_LT(scaled.unbalanced_force_ratio(), 1e-3);
+  // Heights to a thousandth of the smallest overlap, a small ball's weight over k (5.8e-8 m):
+  // both columns are damped to rest (they agree to 1e-16 m on this machine).
+  const double k = scaled.materials().pair(0, 0).kn;
+  const auto& m = scaled.particles().mass;
+  const double tolerance = 1e-3 * *std::min_element(m.begin(), m.end()) * 9.81 / k;
+  for (int b = 0; b < scaled.particles().num_bodies(); ++b) {
+    const int id = static_cast<int>(scaled.particles().id[b]);
+    int r = 0;
+    while (reference.particles().id[r] != id) ++r;
+    EXPECT_NEAR(scaled.particles().x[b].z(), reference.particles().x[r].z(), tolerance) << id;
+  }
+  scaled.end_density_scaling();
+  EXPECT_FALSE(scaled.density_scaled());
+  EXPECT_THROW(scaled.set_time_step(dt), InputError);
 }
 
 }  // namespace
