@@ -31,10 +31,12 @@ inline void sin_cos(double x, double& s, double& c) {
 
 // Turns the body (q: principal frame -> world) about its principal axis k by angle h pi_k / I_k:
 // q <- q rot(e_k, a), and its body-frame momentum pi by -a (pi <- rot(e_k, a)^T pi).
-inline void rotate_about_principal_axis(int k, double h, Quat& q, Vec3& pi, const Vec3& I) {
+// inv_I: the inverse principal moments 1 / I_k (multiplied, not divided: the five turns are one
+// chain of dependent operations, and a division in it costs as much as the rest of a turn).
+inline void rotate_about_principal_axis(int k, double h, Quat& q, Vec3& pi, const Vec3& inv_I) {
   const int i = (k + 1) % 3, j = (k + 2) % 3;  // (i, j, k) cyclic
   double s, c;                                 // of the half angle: rot(e_k, a) = (c, s e_k)
-  sin_cos(0.5 * h * pi[k] / I[k], s, c);
+  sin_cos(0.5 * h * pi[k] * inv_I[k], s, c);
   const double ca = c * c - s * s, sa = 2 * s * c;  // of the angle
   const double pi_i = pi[i], pi_j = pi[j];
   pi[i] = ca * pi_i + sa * pi_j;
@@ -50,15 +52,15 @@ inline void rotate_about_principal_axis(int k, double h, Quat& q, Vec3& pi, cons
 }
 
 // Rotates the body (orientation q: principal frame -> world) freely for time h with world
-// angular momentum L, which a free rotation leaves unchanged. I: principal moments. Returns the
-// angular momentum in the body frame at the end, R^T L.
-inline Vec3 free_rotation(Quat& q, const Vec3& L, const Vec3& I, double h) {
+// angular momentum L, which a free rotation leaves unchanged. inv_I: the inverse principal
+// moments. Returns the angular momentum in the body frame at the end, R^T L.
+inline Vec3 free_rotation(Quat& q, const Vec3& L, const Vec3& inv_I, double h) {
   Vec3 pi = q.conjugate() * L;
-  rotate_about_principal_axis(0, 0.5 * h, q, pi, I);
-  rotate_about_principal_axis(1, 0.5 * h, q, pi, I);
-  rotate_about_principal_axis(2, h, q, pi, I);
-  rotate_about_principal_axis(1, 0.5 * h, q, pi, I);
-  rotate_about_principal_axis(0, 0.5 * h, q, pi, I);
+  rotate_about_principal_axis(0, 0.5 * h, q, pi, inv_I);
+  rotate_about_principal_axis(1, 0.5 * h, q, pi, inv_I);
+  rotate_about_principal_axis(2, h, q, pi, inv_I);
+  rotate_about_principal_axis(1, 0.5 * h, q, pi, inv_I);
+  rotate_about_principal_axis(0, 0.5 * h, q, pi, inv_I);
   q.normalize();
   return pi;
 }

@@ -680,8 +680,9 @@ void Simulation::apply_body_loads_and_integrate() {
         // L stays the true I w: d(s I w)/dt = M.
         p_.L[b] += M * (dt / scale);
         // w = R I^-1 R^T L, with R^T L as the free rotation leaves it.
-        const Vec3 pi = free_rotation(p_.q[b], p_.L[b], p_.inertia[b], dt);
-        p_.w[b] = p_.q[b] * pi.cwiseQuotient(p_.inertia[b]);
+        const Vec3 inv_inertia = p_.inertia[b].cwiseInverse();
+        const Vec3 pi = free_rotation(p_.q[b], p_.L[b], inv_inertia, dt);
+        p_.w[b] = p_.q[b] * pi.cwiseProduct(inv_inertia);
       } else {
         p_.w[b] += M * (dt / (scale * p_.inertia[b][0]));
       }

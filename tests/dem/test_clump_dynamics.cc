@@ -75,7 +75,7 @@ TEST(ClumpDynamics, PrincipalAxisRotationIsTheGeneralOne) {
     const double h = angle * I[k] / pi0[k];
     Quat q = q0;
     Vec3 pi = pi0;
-    rotate_about_principal_axis(k, h, q, pi, I);
+    rotate_about_principal_axis(k, h, q, pi, I.cwiseInverse());
     const Quat r(Eigen::AngleAxisd(angle, Vec3::Unit(k)));
     const Quat q_ref = q0 * r;
     const Vec3 pi_ref = r.conjugate() * pi0;
