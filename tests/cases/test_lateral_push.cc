@@ -72,8 +72,8 @@ TEST_F(LateralPush, AllBall) {
   push("all-ball");
 }
 
-// The paper's ordering of the peaks (seed-facts.md, Table 3) where it holds on the small bed for
-// any realisation of its samples (docs/validation.md#scaled-down-variant): the all-clump reference
+// The paper's ordering of the peaks (seed-facts.md, Table 3) where it held on the small bed on
+// both realisations of its samples measured (docs/validation.md#scaled-down-variant): the reference
 // above the optimised model (1.30 and 1.41 on two realisations), both multi-layer models above
 // balls without rolling resistance (1.6 to 3.2), which are far below the reference (0.32, 0.36);
 // and of the costs (sphere-steps: deterministic, unlike wall time): the optimised model cheaper
