@@ -162,6 +162,11 @@ void declare(ParameterHandler& prm) {
                     "Time held at most, s (the push then starts; the summary says so)");
   prm.declare_entry("equilibrium ratio", "1e-3", Double(1e-9, 1),
                     "Mean unbalanced force ratio that ends the hold (3 checks in a row)");
+  prm.declare_entry("hold along the push", "fixed", Selection("fixed|free"),
+                    "During the hold the mesh is held still along the push (fixed: the push "
+                    "starts from the net load the bed leaves on it) or free along it under that "
+                    "load and its mass (free: the push starts from zero net load, where it came "
+                    "to rest)");
   prm.declare_entry("report displacement", "0.002", Double(0, 10),
                     "Displacement at which the lateral force is also reported, m");
   prm.declare_entry("smoothing window", "0.0002", Double(0, 1),
@@ -392,6 +397,7 @@ CaseParameters read_case_file(const std::string& path) {
   c.push.min_hold = prm.get_double("minimum hold");
   c.push.max_hold = prm.get_double("maximum hold");
   c.push.equilibrium_ratio = prm.get_double("equilibrium ratio");
+  c.push.free_during_hold = prm.get("hold along the push") == "free";
   if (c.push.max_hold < c.push.min_hold)
     throw dem::InputError(path + ": push test/maximum hold = " + prm.get("maximum hold") +
                           " is below minimum hold = " + prm.get("minimum hold") +

@@ -29,7 +29,11 @@ PushTest::PushTest(PushTestParameters prm, dem::Simulation& sim, const std::stri
   velocity_ = dof.value;
   weight_ = body.mass * sim.settings().gravity.norm();
   parts_ = body.local.part_names;
-  start_ = body.x[prm_.axis];  // the push DOF does not move during the hold
+  start_ = body.x[prm_.axis];  // held: the push DOF does not move during the hold
+  if (prm_.free_during_hold && body.mass <= 0)
+    throw dem::InputError(where +
+                          ": push test/hold along the push = free needs the mesh's mass; "
+                          "valid: 'fixed', or a mesh with a mass (a sample's sleeper, a density)");
   if (prm_.path.empty()) prm_.path = {prm_.distance};
 }
 
@@ -57,7 +61,8 @@ void PushTest::control(dem::Simulation& sim) {
     hold_converged_ = confirmations_ >= kConfirmations;
     if (hold_converged_ || sim.time() >= prm_.max_hold) {
       push_start_ = sim.time();
-      record(sim);  // the first row of push.csv, at zero displacement
+      start_ = sim.meshes()[mesh_].x[prm_.axis];  // where a free body came to rest
+      record(sim);                                // the first row of push.csv, at zero displacement
     }
   }
   double v = 0;
@@ -73,7 +78,9 @@ void PushTest::control(dem::Simulation& sim) {
       v = std::copysign(std::min(speed, std::abs(remaining) / dt), remaining * velocity_);
     }
   }
-  sim.meshes()[mesh_].dof[prm_.axis].value = v;
+  dem::DofControl& dof = sim.meshes()[mesh_].dof[prm_.axis];
+  dof.mode = prm_.free_during_hold && !pushing() ? dem::DofMode::free : dem::DofMode::velocity;
+  dof.value = v;
 }
 
 double PushTest::displacement(const dem::Simulation& sim) const {

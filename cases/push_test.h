@@ -17,6 +17,12 @@
 // A `path` of displacements instead of one distance makes the body move to each in turn at the
 // same speed (the ballast box test: up, down to compact, back to the start).
 //
+// Held still along the push, the body keeps whatever net load the bed leaves on it along the push
+// (the sample seated it with that DOF fixed), and the push starts from that load; with
+// `free_during_hold` the push DOF is free during the hold (moved by the bed's load on the body's
+// mass), so the push starts from a body at rest under zero net load along it, as one that no
+// actuator holds, and the displacement counts from where it then stands.
+//
 // Outputs: push.csv (one row per history row of the push), summary items, push.png.
 // Theory and definitions: docs/validation.md, "Lateral push test".
 #pragma once
@@ -39,6 +45,7 @@ struct PushTestParameters {
   double min_hold = 0.02;           // s at rest at least before the push
   double max_hold = 1.0;            // s at rest at most
   double equilibrium_ratio = 1e-3;  // mean unbalanced force ratio that ends the hold
+  bool free_during_hold = false;    // the push DOF free during the hold (else held still)
   double report_at = 0.002;         // m: the displacement at which the force is also reported
   double smoothing = 0.0002;        // m: window of the running mean of the resistance
 };
@@ -56,7 +63,7 @@ class PushTest {
   bool finished() const;
   // The hold is over and the push has started.
   bool pushing() const { return push_start_ >= 0; }
-  // Before every step: holds the push DOF until equilibrium, then moves it.
+  // Before every step: holds (or frees) the push DOF until equilibrium, then moves it.
   void control(dem::Simulation& sim);
   // After a history row: one row of push.csv (during the push only).
   void record(const dem::Simulation& sim);

@@ -47,16 +47,20 @@ class Study : public Cli {
   // Runs the shipped small case of `model` on its sample, checks that it finished and returns its
   // results folder (checks that need it come after, then check_reference_of(model)). With `plot`
   // the run draws its pictures as a user's run does ('output/plot'), and none of them may fail.
-  fs::path run_model(const std::string& model, bool plot = false) {
-    const Result r = run_including(
-        "run", source_ + "/cases/" + study_ + "/small/" + model + ".prm",
-        "subsection particles\n  set sample file = " +
-            (sample(sample_of_.at(model)) / "sample.h5").string() +
-            "\nend\nsubsection output\n  set plot = " + (plot ? "true" : "false") + "\nend\n",
-        results(model));
+  // `variant`: case-file text added after the case's, the run then written to results(variant
+  // name) instead.
+  fs::path run_model(const std::string& model, bool plot = false,
+                     const std::pair<std::string, std::string>& variant = {}) {
+    const fs::path out = results(variant.first.empty() ? model : variant.first);
+    const Result r =
+        run_including("run", source_ + "/cases/" + study_ + "/small/" + model + ".prm",
+                      "subsection particles\n  set sample file = " +
+                          (sample(sample_of_.at(model)) / "sample.h5").string() +
+                          "\nend\nsubsection output\n  set plot = " + (plot ? "true" : "false") +
+                          "\nend\n" + variant.second,
+                      out);
     EXPECT_EQ(r.code, 0) << r.out << r.err;
     EXPECT_EQ(r.out.find("the plot failed"), std::string::npos) << r.out;
-    const fs::path out = results(model);
     EXPECT_TRUE(fs::exists(out / "push.csv"));
     EXPECT_NE(slurp(out / "summary.json").find("\"status\": \"finished\""), std::string::npos);
     return out;
