@@ -3,8 +3,8 @@
 // carries its weight, its parts carry its resistance, it moved 5 mm) and against stored reference
 // figures (tests/cases/reference/lateral_push_small.csv), and the five peaks against one another.
 #include <cmath>
-#include <sstream>
 
+#include "dem/csv_table.h"
 #include "study_fixture.h"
 
 namespace {
@@ -77,13 +77,7 @@ TEST_F(LateralPush, AllBall) {
 
 // The resistance at zero displacement: push.csv's first row, the push's start.
 double start_resistance(const fs::path& run) {
-  std::istringstream csv(slurp(run / "push.csv"));
-  std::string header, row, cell;
-  std::getline(csv, header);
-  std::getline(csv, row);
-  std::istringstream cells(row);
-  for (int column = 0; column < 3; ++column) std::getline(cells, cell, ',');
-  return std::stod(cell);  // time_s, displacement_m, resistance_n
+  return trackbed::dem::CsvTable((run / "push.csv").string()).number(0, "resistance_n");
 }
 
 // Held still along the push (as shipped), the sleeper starts the push under the net lateral load
