@@ -5,7 +5,6 @@
 #include <deal.II/base/parameter_handler.h>
 
 #include <algorithm>
-#include <filesystem>
 #include <iterator>
 #include <sstream>
 
@@ -245,14 +244,11 @@ dem::DofControl parse_dof(const std::string& text, const std::string& where) {
 }  // namespace
 
 CaseParameters read_case_file(const std::string& path) {
-  namespace fs = std::filesystem;
   ParameterHandler prm;
   declare(prm);
-  parse_parameter_file(prm, path, "trackbed --print-parameters");
-  const fs::path base = fs::absolute(path).parent_path();
-  auto resolve = [&](const std::string& f) {
-    return f.empty() || fs::path(f).is_absolute() ? f : (base / f).lexically_normal().string();
-  };
+  // A relative file name resolves against the folder of the file that set it (an included file's
+  // names stay its own).
+  const ValueFolders folders = parse_parameter_file(prm, path, "trackbed --print-parameters");
 
   CaseParameters c;
   c.file = path;
@@ -326,7 +322,7 @@ CaseParameters read_case_file(const std::string& path) {
     prm.enter_subsection("mesh " + std::to_string(i));
     MeshParameters m;
     m.name = prm.get("name");
-    m.file = resolve(prm.get("file"));
+    m.file = folders.resolve("meshes/mesh " + std::to_string(i) + "/file", prm.get("file"));
     m.from_sample = prm.get_bool("from sample");
     m.box = six_of(prm, "box");
     m.scale = prm.get_double("scale");
@@ -345,8 +341,8 @@ CaseParameters read_case_file(const std::string& path) {
   prm.leave_subsection();
 
   prm.enter_subsection("particles");
-  c.particle_file = resolve(prm.get("file"));
-  c.sample_file = resolve(prm.get("sample file"));
+  c.particle_file = folders.resolve("particles/file", prm.get("file"));
+  c.sample_file = folders.resolve("particles/sample file", prm.get("sample file"));
   c.sample_walls = prm.get_bool("sample walls");
   c.clump_material = prm.get("clump material");
   for (const auto& item : dealii::Utilities::split_string_list(prm.get("templates"))) {
@@ -354,7 +350,8 @@ CaseParameters read_case_file(const std::string& path) {
     if (colon == std::string::npos || colon == 0 || colon + 1 == item.size())
       throw dem::InputError(path + ": particles/templates entry '" + item +
                             "'; valid: 'name:file.csv' items separated by commas");
-    c.templates.emplace_back(item.substr(0, colon), resolve(item.substr(colon + 1)));
+    c.templates.emplace_back(item.substr(0, colon),
+                             folders.resolve("particles/templates", item.substr(colon + 1)));
   }
   prm.enter_subsection("generator");
   c.generator.count = prm.get_integer("number");

@@ -84,8 +84,9 @@ struct CaseParameters {
   bool plot = true;
 };
 
-// Reads and validates a case file. Relative paths inside it are resolved against the case file's
-// folder. Throws dem::InputError with one line naming the file, line or parameter.
+// Reads and validates a case file. A relative path in it resolves against the folder of the file
+// that set it (the case file or a file it includes). Throws dem::InputError with one line naming
+// the file, line or parameter.
 CaseParameters read_case_file(const std::string& path);
 // Writes every parameter with its default value and documentation, in .prm syntax.
 void print_parameters(std::ostream& out);

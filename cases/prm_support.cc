@@ -2,8 +2,11 @@
 
 #include <deal.II/base/exceptions.h>
 
+#include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <regex>
 #include <sstream>
 #include <utility>
@@ -72,43 +75,64 @@ std::string default_text(double v) {
   return s.str();
 }
 
+namespace {
+
+std::string trim(std::string t) {
+  t.erase(0, t.find_first_not_of(" \t\r"));
+  t.erase(t.find_last_not_of(" \t\r") + 1);
+  return t;
+}
+
+// `word` at the start of `line` followed by a blank or the end, in lower or upper case.
+bool starts_with_keyword(const std::string& line, const std::string& word, std::string& rest) {
+  std::string upper = word;
+  for (char& c : upper) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  for (const std::string& w : {word, upper})
+    if (line.compare(0, w.size(), w) == 0 && (line.size() == w.size() || line[w.size()] == ' ')) {
+      rest = trim(line.substr(w.size()));
+      return true;
+    }
+  return false;
+}
+
+}  // namespace
+
+bool SectionScanner::scan(const std::string& raw, std::string& key, std::string& value) {
+  std::string line;
+  for (char c : raw.substr(0, raw.find('#'))) {
+    if (c == '\t' || c == '\r') c = ' ';
+    if (c == ' ' && !line.empty() && line.back() == ' ') continue;
+    line += c;
+  }
+  line = trim(line);
+  std::string rest;
+  if (starts_with_keyword(line, "subsection", rest)) {
+    path_.push_back(rest);
+  } else if (starts_with_keyword(line, "end", rest) && rest.empty()) {
+    if (!path_.empty()) path_.pop_back();
+  } else if (starts_with_keyword(line, "set", rest)) {
+    const std::size_t eq = rest.find('=');
+    key.clear();
+    for (const auto& p : path_) key += p + "/";
+    key += trim(rest.substr(0, eq));
+    value = eq == std::string::npos ? "" : trim(rest.substr(eq + 1));
+    return true;
+  }
+  return false;
+}
+
 std::string fingerprint(const dealii::ParameterHandler& prm) {
   std::ostringstream printed;
   prm.print_parameters(printed, dealii::ParameterHandler::ShortPRM);
   std::istringstream in(printed.str());
-  std::vector<std::string> path;
-  std::string line, out;
-  while (std::getline(in, line)) {
-    std::istringstream words(line);
-    std::string word;
-    words >> word;
-    if (word == "subsection") {
-      std::string name;
-      std::getline(words >> std::ws, name);
-      path.push_back(name);
-    } else if (word == "end" && !path.empty()) {
-      path.pop_back();
-    } else if (word == "set") {
-      std::string entry;
-      std::getline(words >> std::ws, entry);
-      entry = entry.substr(0, entry.find('#'));  // a "# default: ..." note
-      auto trim = [](std::string t) {
-        t.erase(0, t.find_first_not_of(" \t"));
-        t.erase(t.find_last_not_of(" \t") + 1);
-        return t;
-      };
-      const std::size_t eq = entry.find('=');
-      std::string key;
-      for (const auto& p : path) key += p + "/";
-      key += trim(entry.substr(0, eq));
-      static const char* const kIgnored[] = {"simulation/threads", "build/threads", "output/folder",
-                                             "output/progress interval",
-                                             "output/checkpoint interval"};
-      if (std::find(std::begin(kIgnored), std::end(kIgnored), key) != std::end(kIgnored)) continue;
-      const std::string value = eq == std::string::npos ? "" : trim(entry.substr(eq + 1));
+  SectionScanner sections;
+  std::string line, key, value, out;
+  static const char* const kIgnored[] = {"simulation/threads", "build/threads", "output/folder",
+                                         "output/progress interval", "output/checkpoint interval"};
+  while (std::getline(in, line))
+    if (sections.scan(line, key, value) &&
+        std::find(std::begin(kIgnored), std::end(kIgnored), key) == std::end(kIgnored))
       out += key + " = " + value + "\n";
-    }
-  }
   return out;
 }
 
@@ -135,10 +159,14 @@ namespace {
 
 // A parameter file with its 'include FILE' lines replaced by the files' contents, recursively;
 // each included name is relative to the folder of the file that names it. `origin` gives the
-// file and line of every line of `text`, for error messages.
+// file and line of every line of `text`, for error messages; `set_in` the folder of the file
+// whose 'set' line gave each parameter its value.
 struct ExpandedFile {
   std::string text;
   std::vector<std::pair<std::string, int>> origin;
+  std::map<std::string, std::string> set_in;
+  SectionScanner sections;
+  bool continued = false;  // the previous line ended with '\': this one is part of its value
 };
 
 void expand(const std::string& path, ExpandedFile& out, int depth) {
@@ -168,13 +196,29 @@ void expand(const std::string& path, ExpandedFile& out, int depth) {
     }
     out.text += line + "\n";
     out.origin.emplace_back(path, number);
+    std::string key, value;
+    if (!out.continued && out.sections.scan(line, key, value))
+      out.set_in[key] = fs::absolute(path).parent_path().lexically_normal().string();
+    const std::string code = line.substr(0, line.find_last_not_of(" \t\r") + 1);
+    out.continued = !code.empty() && code.back() == '\\';
   }
 }
 
 }  // namespace
 
-void parse_parameter_file(dealii::ParameterHandler& prm, const std::string& path,
-                          const std::string& print_command) {
+std::string ValueFolders::folder_of(const std::string& key) const {
+  const auto it = set_in_.find(key);
+  return it == set_in_.end() ? top_ : it->second;
+}
+
+std::string ValueFolders::resolve(const std::string& key, const std::string& value) const {
+  namespace fs = std::filesystem;
+  if (value.empty() || fs::path(value).is_absolute()) return value;
+  return (fs::path(folder_of(key)) / value).lexically_normal().string();
+}
+
+ValueFolders parse_parameter_file(dealii::ParameterHandler& prm, const std::string& path,
+                                  const std::string& print_command) {
   if (!std::filesystem::exists(path))
     throw dem::InputError(path + ": file not found; valid: a .prm file (see '" + print_command +
                           "')");
@@ -195,6 +239,10 @@ void parse_parameter_file(dealii::ParameterHandler& prm, const std::string& path
     }
     throw dem::InputError(path + ": " + message + "; valid names and ranges: " + print_command);
   }
+  ValueFolders folders;
+  folders.top_ = std::filesystem::absolute(path).parent_path().lexically_normal().string();
+  folders.set_in_ = std::move(file.set_in);
+  return folders;
 }
 
 }  // namespace trackbed::cases

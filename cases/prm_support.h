@@ -7,7 +7,9 @@
 
 #include <array>
 #include <exception>
+#include <map>
 #include <string>
+#include <vector>
 
 #include "dem/material.h"
 #include "dem/types.h"
@@ -33,11 +35,40 @@ std::string fingerprint(const dealii::ParameterHandler& prm);
 std::string one_line(const std::exception& e);
 // A number as the text of a parameter's default (an ostream's default 6 significant digits).
 std::string default_text(double v);
+// Follows the subsection nesting of parameter-file text, one line at a time, as deal.II reads it
+// (tabs and runs of blanks as one blank, '#' starts a comment, keywords in lower or upper case).
+class SectionScanner {
+ public:
+  // For a 'set' line: true, with `key` the full name ("subsection/.../name") and `value` the
+  // trimmed text after '='. 'subsection' and 'end' lines change the nesting; others are ignored.
+  bool scan(const std::string& line, std::string& key, std::string& value);
+
+ private:
+  std::vector<std::string> path_;
+};
+
+// Which file set each parameter last, so that a relative file name in a value resolves against
+// the folder of the file that wrote it: an included sample or case file keeps its own paths.
+class ValueFolders {
+ public:
+  // The folder of the file that set `key` ("subsection/.../name") last; the top-level file's
+  // folder for a value left at its default.
+  std::string folder_of(const std::string& key) const;
+  // `value` when empty or absolute, else `value` from folder_of(key), normalised.
+  std::string resolve(const std::string& key, const std::string& value) const;
+
+ private:
+  friend ValueFolders parse_parameter_file(dealii::ParameterHandler&, const std::string&,
+                                           const std::string&);
+  std::string top_;
+  std::map<std::string, std::string> set_in_;
+};
+
 // Parses `path` into `prm` (declared by the caller); throws dem::InputError naming the file and
 // pointing at `trackbed --print-parameters` for a missing file or a parse error. Files named by
 // 'include FILE' lines are found relative to the folder of the file that names them; errors
-// name the file and line they are in.
-void parse_parameter_file(dealii::ParameterHandler& prm, const std::string& path,
-                          const std::string& print_command);
+// name the file and line they are in. Returns where each value was set, for resolving paths.
+ValueFolders parse_parameter_file(dealii::ParameterHandler& prm, const std::string& path,
+                                  const std::string& print_command);
 
 }  // namespace trackbed::cases

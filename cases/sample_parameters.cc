@@ -3,7 +3,6 @@
 #include "cases/sample_parameters.h"
 
 #include <cstdlib>
-#include <filesystem>
 
 #include "cases/prm_support.h"
 #include "dem/grading.h"
@@ -188,14 +187,12 @@ std::string preset_zone(const std::string& preset, const dem::TrackSection& s) {
 }
 
 SampleParameters read_sample_file(const std::string& path) {
-  namespace fs = std::filesystem;
   ParameterHandler prm;
   declare(prm);
-  parse_parameter_file(prm, path, "trackbed build-sample --print-parameters");
-  const fs::path base = fs::absolute(path).parent_path();
-  auto resolve = [&](const std::string& f) {
-    return f.empty() || fs::path(f).is_absolute() ? f : (base / f).lexically_normal().string();
-  };
+  // A relative file name resolves against the folder of the file that set it (an included file's
+  // names stay its own).
+  const ValueFolders folders =
+      parse_parameter_file(prm, path, "trackbed build-sample --print-parameters");
 
   SampleParameters p;
   p.file = path;
@@ -217,7 +214,7 @@ SampleParameters read_sample_file(const std::string& path) {
   s.validate(path);
 
   prm.enter_subsection("grading");
-  const std::string grading = resolve(prm.get("file"));
+  const std::string grading = folders.resolve("grading/file", prm.get("file"));
   if (!grading.empty()) b.grading = dem::read_sieve_table_csv(grading);
   prm.leave_subsection();
 
@@ -271,10 +268,11 @@ SampleParameters read_sample_file(const std::string& path) {
     throw dem::InputError(path + ": zone/clump zone is given but zone/preset = " + p.preset +
                           "; valid: preset = custom with a clump zone, or no clump zone");
   p.zone_text = custom;
+  p.zone_folder = folders.folder_of("zone/clump zone");
   // Parsed here so that a bad zone stops the run before anything is built.
-  if (!custom.empty()) dem::parse_zone(custom, path + ": zone/clump zone", base.string());
-  p.base_sample = resolve(prm.get("base sample"));
-  p.templates = resolve(prm.get("templates"));
+  if (!custom.empty()) dem::parse_zone(custom, path + ": zone/clump zone", p.zone_folder);
+  p.base_sample = folders.resolve("zone/base sample", prm.get("base sample"));
+  p.templates = folders.resolve("zone/templates", prm.get("templates"));
   p.template_setting = prm.get("template setting");
   p.mass_from =
       prm.get("mass from") == "surface" ? dem::MassSource::surface : dem::MassSource::pebbles;

@@ -19,7 +19,8 @@ struct SampleParameters {
   // Zone of clumps: a preset or an expression (dem/zone.h). all-ball builds the ball sample;
   // anything else converts the balls in the zone of `base_sample` (built first when empty).
   std::string preset = "all-ball";
-  std::string zone_text;  // the custom zone (a preset's is made for the base sample's section)
+  std::string zone_text;    // the custom zone (a preset's is made for the base sample's section)
+  std::string zone_folder;  // where the zone's relative names (pilot runs) resolve
   std::string base_sample;
   std::string templates;  // library manifest
   std::string template_setting = "D120R0.5";
@@ -34,7 +35,8 @@ struct SampleParameters {
   bool vtu = true, plot = true;
 };
 
-// Reads and validates a sample file; relative paths in it resolve against its folder. Throws
+// Reads and validates a sample file; a relative path in it resolves against the folder of the
+// file that set it (the sample file or a file it includes). Throws
 // dem::InputError with one line naming the file and the parameter.
 SampleParameters read_sample_file(const std::string& path);
 void print_sample_parameters(std::ostream& out);

@@ -76,8 +76,8 @@ dem::Sample SampleRun::convert(const dem::Sample& base, dem::ConversionCheckpoin
   // A preset's zone is that of the base sample's own section.
   const std::string text =
       prm_.preset == "custom" ? prm_.zone_text : preset_zone(prm_.preset, dem::section_of(base));
-  const dem::ZonePtr zone = dem::parse_zone(text, prm_.file + ": zone/clump zone",
-                                            fs::absolute(prm_.file).parent_path().string());
+  const dem::ZonePtr zone =
+      dem::parse_zone(text, prm_.file + ": zone/clump zone", prm_.zone_folder);
   auto templates =
       dem::read_template_library(prm_.templates, prm_.template_setting, prm_.mass_from);
   const std::size_t template_count = templates.size();

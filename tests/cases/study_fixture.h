@@ -29,17 +29,16 @@ class Study : public Cli {
                          ".prm --threads 1 --output " + sample(base_).string());
     ASSERT_EQ(r.code, 0) << r.out << r.err;
   }
-  // The shipped sample file `name` on the base sample of the work folder (file values are
-  // relative to the case that is run, so the included file's base sample and templates are
-  // given again). A pilot zone's run is `pilot_run` of the work folder (pilot_zone_of).
+  // The shipped sample file `name` on the base sample of the work folder (its templates stay
+  // the shipped file's: a relative name resolves against the file that sets it). A pilot zone's
+  // run is `pilot_run` of the work folder (pilot_zone_of).
   void build_converted_sample(const std::string& name, const std::string& pilot_run = "") {
     const std::string file = source_ + "/cases/samples/" + name + ".prm";
     const Result r = run_including(
         "build-sample", file,
         "subsection zone\n  set base sample = " + (sample(base_) / "sample.h5").string() +
             (pilot_run.empty() ? "" : "\n  set clump zone = " + pilot_zone_of(file, pilot_run)) +
-            "\n  set templates = " + source_ +
-            "/cases/templates/ballast/library.csv\nend\n"
+            "\nend\n"
             "subsection output\n  set plot = false\n  set vtu = false\nend\n",
         sample(name));
     ASSERT_EQ(r.code, 0) << r.out << r.err;

@@ -325,4 +325,18 @@ TEST_F(BuildSample, BadSampleFilesGetOneLine) {
   EXPECT_EQ(run("build-sample --print-parameters").code, 0);
 }
 
+// A relative name set in an included file resolves against that file's folder, so a sample file
+// can include a shipped one without giving its base sample and templates again.
+TEST_F(BuildSample, IncludedFilesKeepTheirRelativePaths) {
+  fs::create_directories(dir_ / "parts");
+  write("parts/zone.prm",
+        "subsection zone\n  set preset = all-clump\n  set base sample = none.h5\nend\n");
+  const fs::path f = write("top.prm", std::string(kMicroSection) +
+                                          "include parts/zone.prm\nsubsection output\n"
+                                          "  set folder = " +
+                                          (dir_ / "out").string() + "\nend\n");
+  expect_error(run("build-sample " + f.string()),
+               {(dir_ / "parts" / "none.h5").string(), "no such file"});
+}
+
 }  // namespace

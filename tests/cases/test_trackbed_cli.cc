@@ -48,6 +48,24 @@ TEST_F(Cli, IncludedFilesNestAndNameTheirLines) {
   expect_error(run("run " + missing.string()), {missing.string() + ":1", "nowhere.prm"});
 }
 
+// A relative file name resolves against the folder of the file that set it: an included file's
+// particle file is found beside it, a later top-level value beside the top-level file.
+TEST_F(Cli, IncludedFilesKeepTheirRelativePaths) {
+  fs::create_directories(dir_ / "shared");
+  const std::string balls = "x,y,z,radius\n0.1,0.1,0.1,0.01\n0.2,0.1,0.1,0.01\n";
+  write("shared/balls.csv", balls);
+  write("shared/base.prm", small_case("", "balls.csv"));
+  const Result r = run("run " + write("good.prm", "include shared/base.prm\n").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("2 bodies"), std::string::npos) << r.out;
+
+  write("shared/other.csv", balls);
+  const fs::path top = write("top.prm",
+                             "include shared/base.prm\nsubsection particles\n"
+                             "  set file = other.csv\nend\n");
+  expect_error(run("run " + top.string()), {(dir_ / "other.csv").string(), "cannot open"});
+}
+
 TEST_F(Cli, OutOfRangeValueNamesParameterAndRange) {
   const fs::path f = write("case.prm", small_case("subsection materials\n  subsection material 0\n"
                                                   "    set normal stiffness = -5\n  end\nend\n"));
