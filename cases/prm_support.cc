@@ -95,7 +95,22 @@ bool starts_with_keyword(const std::string& line, const std::string& word, std::
   return false;
 }
 
-}  // namespace
+// The folder of a file, absolute and normalised: where the relative names it gives resolve.
+std::string folder_of_file(const std::string& path) {
+  return std::filesystem::absolute(path).parent_path().lexically_normal().string();
+}
+
+// Follows the subsection nesting of parameter-file text, one line at a time, as deal.II reads it
+// (tabs and runs of blanks as one blank, '#' starts a comment, keywords in lower or upper case).
+class SectionScanner {
+ public:
+  // For a 'set' line: true, with `key` the full name ("subsection/.../name") and `value` the
+  // trimmed text after '='. 'subsection' and 'end' lines change the nesting; others are ignored.
+  bool scan(const std::string& line, std::string& key, std::string& value);
+
+ private:
+  std::vector<std::string> path_;
+};
 
 bool SectionScanner::scan(const std::string& raw, std::string& key, std::string& value) {
   std::string line;
@@ -120,6 +135,8 @@ bool SectionScanner::scan(const std::string& raw, std::string& key, std::string&
   }
   return false;
 }
+
+}  // namespace
 
 std::string fingerprint(const dealii::ParameterHandler& prm) {
   std::ostringstream printed;
@@ -173,15 +190,14 @@ void expand(const std::string& path, ExpandedFile& out, int depth) {
   namespace fs = std::filesystem;
   std::ifstream in(path);
   if (!in) throw dem::InputError(path + ": cannot be read; valid: a readable .prm file");
+  const std::string folder = folder_of_file(path);
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
     const std::size_t first = line.find_first_not_of(" \t");
     const std::string word = first == std::string::npos ? "" : line.substr(first, 8);
     if (word == "include " || word == "INCLUDE ") {
-      std::string name = line.substr(first + 8);
-      name = name.substr(0, name.find('#'));
-      name.erase(0, name.find_first_not_of(" \t"));
-      name.erase(name.find_last_not_of(" \t\r") + 1);
+      const std::string rest = line.substr(first + 8);
+      const std::string name = trim(rest.substr(0, rest.find('#')));
       const fs::path target =
           fs::path(name).is_absolute() ? fs::path(name) : fs::path(path).parent_path() / name;
       const std::string where = path + ":" + std::to_string(number) + ": include " + name;
@@ -197,8 +213,7 @@ void expand(const std::string& path, ExpandedFile& out, int depth) {
     out.text += line + "\n";
     out.origin.emplace_back(path, number);
     std::string key, value;
-    if (!out.continued && out.sections.scan(line, key, value))
-      out.set_in[key] = fs::absolute(path).parent_path().lexically_normal().string();
+    if (!out.continued && out.sections.scan(line, key, value)) out.set_in[key] = folder;
     const std::string code = line.substr(0, line.find_last_not_of(" \t\r") + 1);
     out.continued = !code.empty() && code.back() == '\\';
   }
@@ -240,7 +255,7 @@ ValueFolders parse_parameter_file(dealii::ParameterHandler& prm, const std::stri
     throw dem::InputError(path + ": " + message + "; valid names and ranges: " + print_command);
   }
   ValueFolders folders;
-  folders.top_ = std::filesystem::absolute(path).parent_path().lexically_normal().string();
+  folders.top_ = folder_of_file(path);
   folders.set_in_ = std::move(file.set_in);
   return folders;
 }

@@ -9,7 +9,6 @@
 #include <exception>
 #include <map>
 #include <string>
-#include <vector>
 
 #include "dem/material.h"
 #include "dem/types.h"
@@ -35,18 +34,6 @@ std::string fingerprint(const dealii::ParameterHandler& prm);
 std::string one_line(const std::exception& e);
 // A number as the text of a parameter's default (an ostream's default 6 significant digits).
 std::string default_text(double v);
-// Follows the subsection nesting of parameter-file text, one line at a time, as deal.II reads it
-// (tabs and runs of blanks as one blank, '#' starts a comment, keywords in lower or upper case).
-class SectionScanner {
- public:
-  // For a 'set' line: true, with `key` the full name ("subsection/.../name") and `value` the
-  // trimmed text after '='. 'subsection' and 'end' lines change the nesting; others are ignored.
-  bool scan(const std::string& line, std::string& key, std::string& value);
-
- private:
-  std::vector<std::string> path_;
-};
-
 // Which file set each parameter last, so that a relative file name in a value resolves against
 // the folder of the file that wrote it: an included sample or case file keeps its own paths.
 class ValueFolders {
