@@ -4,6 +4,7 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <csignal>
 #include <filesystem>
@@ -20,6 +21,7 @@
 #include "dem/porosity.h"
 #include "dem/sample_builder.h"
 #include "dem/section_model.h"
+#include "dem/sleeper_support.h"
 #include "dem/template_library.h"
 #include "dem/vtu_writer.h"
 #include "dem/zone.h"
@@ -42,6 +44,13 @@ std::string number(double v) {
   std::ostringstream s;
   s << std::setprecision(10) << v;
   return s.str();
+}
+
+template <class T, std::size_t N>
+std::string json_array(const std::array<T, N>& values) {
+  std::string s = "[";
+  for (std::size_t k = 0; k < N; ++k) s += (k ? ", " : "") + number(values[k]);
+  return s + "]";
 }
 
 }  // namespace
@@ -336,6 +345,25 @@ void SampleRun::write_summary(const dem::Sample& sample, const dem::Simulation& 
       {"threads", "threads", "", number(sim.team_size())},
       {"peak_memory_mb", "peak resident memory", "MB", number(usage.ru_maxrss / 1024.0)},
   };
+  if (const int k = sim.mesh_index(dem::SectionModel::kSleeperName); k >= 0) {
+    // Where the seated sleeper gets its support (dem/sleeper_support.h): a sleeper balanced on a
+    // few stones pushes differently from one carried along its length.
+    const dem::SleeperSupport support = dem::sleeper_support(sim, k);
+    for (const auto& part : support.parts) {
+      items.push_back({"sleeper_" + part.name + "_contacts", "sleeper contacts, " + part.name, "",
+                       number(part.contacts)});
+      items.push_back({"sleeper_" + part.name + "_load_share",
+                       "share of the sleeper's load on its " + part.name, "",
+                       number(part.force.z() / sleeper_load)});
+    }
+    items.push_back({"sleeper_largest_base_contact_share",
+                     "largest base contact's share of the load", "",
+                     number(support.largest_base_contact / sleeper_load)});
+    items.push_back({"sleeper_base_contacts_by_fifth", "base contacts by fifths of the length", "",
+                     json_array(support.base_contacts)});
+    items.push_back({"sleeper_base_load_by_fifth_n", "base load by fifths of the length", "N",
+                     json_array(support.base_load)});
+  }
   for (const auto& [k, v] : notes_) items.push_back({k, k, "", v});
 
   dem::AtomicFile json(out_ + "/summary.json");

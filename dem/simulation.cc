@@ -890,17 +890,30 @@ void Simulation::for_each_contact(const std::function<void(const ContactRecord&)
     }
   }
   constexpr int S = WallHistory::kSlots;
+  std::vector<MeshContactPoint> now;
   for (std::size_t m = 0; m < meshes_.size(); ++m) {
     const WallHistory& wh = plane_history_[planes_.size() + m];
-    for (std::size_t c = 0; c < wh.element.size(); ++c)
+    const TriangleMesh& mesh = meshes_[m].world;
+    for (std::size_t c = 0; c < wh.element.size(); ++c) {
+      const int e = wh.element[c];
+      sphere_mesh_contacts(mesh, p_.pos[e], p_.radius[e],
+                           wh.triangles.data() + wh.triangle_offsets[c],
+                           wh.triangle_offsets[c + 1] - wh.triangle_offsets[c], now);
       for (int a = 0; a < S; ++a) {
         const int k = static_cast<int>(c) * S + a;
         if (wh.fn[k] <= 0) continue;
-        const int e = wh.element[c];
-        const Vec3 pt = p_.pos[e] - wh.normal[k] * p_.radius[e];
-        f(ContactRecord{-1, e, static_cast<int>(planes_.size() + m), pt,
-                        wh.fn[k] * wh.normal[k] + wh.shear[k]});
+        ContactRecord r{-1, e, static_cast<int>(planes_.size() + m),
+                        p_.pos[e] - wh.normal[k] * p_.radius[e],
+                        wh.fn[k] * wh.normal[k] + wh.shear[k]};
+        // The part of the triangle touched now whose normal is the stored one's (the positions
+        // moved by one step since the forces; the same matching as mesh_forces' springs).
+        double best_dot = 0.5;
+        for (const MeshContactPoint& pt : now)
+          if (const double dot = pt.normal.dot(wh.normal[k]); dot > best_dot)
+            best_dot = dot, r.part = mesh.triangle_part[pt.triangle];
+        f(r);
       }
+    }
   }
 }
 

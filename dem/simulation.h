@@ -61,7 +61,8 @@ struct ContactRecord {
   int element_j;
   int wall = -1;  // plane index, or planes + mesh index; -1 for particle-particle
   Vec3 point;
-  Vec3 force;  // on j
+  Vec3 force;     // on j
+  int part = -1;  // a mesh contact: the mesh part (part_names) of the triangle it touches
 };
 
 class Simulation {

@@ -5,6 +5,7 @@
 #include <csignal>
 #include <map>
 #include <regex>
+#include <sstream>
 
 #include "cli_fixture.h"
 #include "dem/mass_properties.h"
@@ -79,6 +80,28 @@ void BuildSample::check_ball_sample(const fs::path& out) {
   const double weight = summary_number(out, "sleeper_weight_n");
   EXPECT_NEAR(summary_number(out, "sleeper_load_n"), weight, 0.01 * weight);
   EXPECT_LT(summary_number(out, "unbalanced_force_ratio"), 2e-4);
+  // Its support: the parts' shares of its load sum to one (the loads are the contacts' of the
+  // last step, the load is their sum; dashpots at rest carry nothing), it stands on its base,
+  // and the base's fifths add up to the base's share.
+  double shares = 0;
+  for (const char* part : {"base", "top", "sides", "ends"})
+    shares += summary_number(out, std::string("sleeper_") + part + "_load_share");
+  EXPECT_NEAR(shares, 1, 1e-6);
+  EXPECT_GE(summary_number(out, "sleeper_base_contacts"), 1);
+  EXPECT_GT(summary_number(out, "sleeper_base_load_share"), 0.5);
+  const std::string json = slurp(out / "summary.json");
+  std::smatch m;
+  ASSERT_TRUE(
+      std::regex_search(json, m, std::regex("\"sleeper_base_load_by_fifth_n\": \\[([^\\]]*)\\]")));
+  double fifths = 0;
+  int count = 0;
+  std::stringstream list(m[1].str());
+  for (std::string v; std::getline(list, v, ',');) fifths += std::stod(v), ++count;
+  EXPECT_EQ(count, 5);
+  const double load = summary_number(out, "sleeper_load_n");
+  EXPECT_NEAR(fifths, summary_number(out, "sleeper_base_load_share") * load, 1e-6 * load);
+  EXPECT_LE(summary_number(out, "sleeper_largest_base_contact_share"),
+            summary_number(out, "sleeper_base_load_share") + 1e-9);
   // A few hundred stones reproduce the grading to a few percent of mass (docs/grading.md).
   EXPECT_LT(summary_number(out, "max_grading_error_percent"), 6.0);
   EXPECT_GT(s.contacts.pairs.size(), 100u);

@@ -1,23 +1,27 @@
 // When a sample build counts its sleeper as seated (SectionModel::require_seated_sleeper): the
 // means over a check interval of the sleeper's load and speed, each interval on its own; and when
-// a conversion lets it go from its servo (SectionModel::release_sleeper_when_carried).
+// a conversion lets it go from its servo (SectionModel::release_sleeper_when_carried); where a
+// seated sleeper gets its support (sleeper_support).
 #include <gtest/gtest.h>
 
 #include "dem/mesh_body.h"
 #include "dem/section_model.h"
+#include "dem/sleeper_support.h"
 #include "sim_builder.h"
 
 namespace trackbed::dem {
 namespace {
 
 // A box "sleeper" pressed by its servo with 50 N onto three balls on a floor (the model of
-// MeshContact.ServoSleeperPressesWithItsLoad), above them by `gap` at the start.
-Simulation pressed_box(double gap) {
+// MeshContact.ServoSleeperPressesWithItsLoad), above them by `gap` at the start; optionally a
+// fourth ball dropped onto its top near one end.
+Simulation pressed_box(double gap, bool ball_on_top = false) {
   const double k = 1e6;
   Material m = testing::test_material(k, 0.5);
   m.local_damping = 0.7;
   Particles p;
   for (int i = 0; i < 3; ++i) p.add_ball(Vec3(-0.05 + 0.05 * i, 0, 0.02), 0.02, 0, m.density, i);
+  if (ball_on_top) p.add_ball(Vec3(0.07, 0, 0.1 + gap + 0.011), 0.01, 0, m.density, 3);
   SimulationSettings s;
   s.time_step = 2e-5;
   Simulation sim(testing::table_with_pair(m, k), std::move(p), s);
@@ -99,6 +103,36 @@ TEST(SleeperSeating, ReleasedFromItsServoOnlyOnceTheBedCarriesNoMoreThanItsWeigh
   EXPECT_NEAR(box.contact_force.z(), 50, 0.05);
   c.also(sim);
   EXPECT_TRUE(judge(sim, c, 1, 500).front());
+}
+
+TEST(SleeperSupport, ThreeEqualBallsUnderALevelBoxCarryAThirdEach) {
+  // Rotations fixed, the box sinks evenly: the three identical balls compress alike and carry
+  // 50/3 N each; they lie in the second, third and fourth fifths of its 0.2 m length (x = -0.05,
+  // 0, 0.05 against fifths' bounds -0.1, -0.06, -0.02, 0.02, 0.06, 0.1). The ball on its top
+  // loads it by that ball's weight, downwards, so the base carries 50 N plus that weight.
+  Simulation sim = pressed_box(0.002, true);
+  testing::run_for(sim, 0.5);
+  const MeshBody& box = sim.meshes()[0];
+  ASSERT_NEAR(box.contact_force.z(), 50, 0.05);  // seated (as in the test above)
+  const double top_weight = sim.particles().mass[3] * 9.81;
+  const SleeperSupport s = sleeper_support(sim, 0);
+  ASSERT_EQ(s.parts.size(), 4u);
+  const SleeperSupport::Part& base = *s.part("base");
+  const SleeperSupport::Part& top = *s.part("top");
+  EXPECT_EQ(base.contacts, 3);
+  EXPECT_EQ(top.contacts, 1);
+  EXPECT_EQ(s.part("sides")->contacts, 0);
+  EXPECT_EQ(s.part("ends")->contacts, 0);
+  // At rest the dashpots carry nothing: the records' loads are the body's to round-off of the
+  // servo's last steps (1e-6 of the load).
+  EXPECT_NEAR(s.vertical_load(), box.contact_force.z(), 1e-6 * 50);
+  EXPECT_NEAR(top.force.z(), -top_weight, 1e-3 * top_weight);
+  EXPECT_NEAR(base.force.z(), 50 + top_weight, 0.05);
+  EXPECT_EQ(s.base_contacts, (std::array<int, 5>{0, 1, 1, 1, 0}));
+  for (int k : {1, 2, 3}) EXPECT_NEAR(s.base_load[k], (50 + top_weight) / 3, 0.05 / 3) << k;
+  EXPECT_EQ(s.base_load[0], 0);
+  EXPECT_EQ(s.base_load[4], 0);
+  EXPECT_NEAR(s.largest_base_contact, (50 + top_weight) / 3, 0.05 / 3);
 }
 
 }  // namespace
