@@ -89,6 +89,11 @@ void declare(ParameterHandler& prm) {
   prm.declare_entry("tamping load factor", default_text(b.tamping_load_factor), Double(1, 1e4),
                     "The sleeper is pressed into the bed with this many times its weight, then "
                     "seated under its weight (1: no tamping)");
+  prm.declare_entry("mould seating friction factor", default_text(b.mould_seating_friction),
+                    Double(0, 1),
+                    "0: the sleeper is seated on the finished profile; a factor in (0, 1]: it is "
+                    "first seated while the bed is still in its mould with the ballast friction "
+                    "scaled by this factor, then the friction is restored and the slopes cut");
   prm.declare_entry("stage ratio", default_text(b.stage_ratio), Double(1e-8, 0.5),
                     "Mean unbalanced force ratio ending the intermediate stages");
   prm.declare_entry("equilibrium ratio", default_text(b.equilibrium_ratio), Double(1e-8, 0.5),
@@ -247,6 +252,7 @@ SampleParameters read_sample_file(const std::string& path) {
   b.calibration.factors = dealii::Utilities::string_to_double(
       dealii::Utilities::split_string_list(prm.get("calibration friction factors")));
   b.tamping_load_factor = prm.get_double("tamping load factor");
+  b.mould_seating_friction = prm.get_double("mould seating friction factor");
   b.stage_ratio = prm.get_double("stage ratio");
   b.equilibrium_ratio = prm.get_double("equilibrium ratio");
   b.max_stage_time = prm.get_double("maximum stage time");

@@ -79,7 +79,8 @@ double SampleBuilder::core_porosity(const Particles& p) const {
 }
 
 void SampleBuilder::next_stage(const Particles& particles, const StageWalls& walls,
-                               const StageMaterials& materials) {
+                               const StageMaterials& materials,
+                               const std::optional<MeshBody>& sleeper) {
   ContactState carried;
   double dt = 0;
   if (sim_) {
@@ -92,7 +93,7 @@ void SampleBuilder::next_stage(const Particles& particles, const StageWalls& wal
                                        [&](const SavedWallContact& c) { return c.wall >= common; }),
                         carried.walls.end());
   }
-  sim_ = std::make_unique<Simulation>(model_.make(particles, walls, materials));
+  sim_ = std::make_unique<Simulation>(model_.make(particles, walls, materials, sleeper));
   sim_->setup();
   if (dt > 0) {
     // The first stage's step holds for the later ones unless their contacts need a smaller one.
@@ -105,6 +106,7 @@ Sample SampleBuilder::run() {
   draw_stones();
   calibrate();
   deposit();
+  if (settings_.mould_seating_friction > 0) seat_in_mould();
   trim();
   seat_sleeper();
   std::map<std::int64_t, double> size_of_id;
@@ -116,6 +118,8 @@ Sample SampleBuilder::run() {
   sample.info.push_back(
       {"build/deposition friction factor", number(report_.deposition_friction_factor)});
   sample.info.push_back({"build/porosity after deposition", number(report_.porosity)});
+  sample.info.push_back(
+      {"build/mould seating friction factor", number(settings_.mould_seating_friction)});
   sample.info.push_back({"zone", "none"});
   return sample;
 }
@@ -167,21 +171,45 @@ void SampleBuilder::deposit() {
                 settings_.stage_ratio, settings_.max_stage_time},
                runner_, report_.stages);
   report_.porosity = core_porosity(sim_->particles());
-  if (f != 1) {
-    sim_->set_materials(model_.material_table());
-    SettleCriterion c;
-    c.max_time = settings_.max_stage_time;
-    c.ratio = settings_.stage_ratio;
-    report_.stages.push_back(runner_.settle(*sim_, "friction restored", c));
-  }
+  if (settings_.mould_seating_friction == 0) restore_friction(f);
+}
+
+void SampleBuilder::restore_friction(double factor) {
+  if (factor == 1) return;
+  sim_->set_materials(model_.material_table());
+  SettleCriterion c;
+  c.max_time = settings_.max_stage_time;
+  c.ratio = settings_.stage_ratio;
+  report_.stages.push_back(runner_.settle(*sim_, "friction restored", c));
+}
+
+void SampleBuilder::seat_in_mould() {
+  // Levelled at the crest and cleared of the sleeper's box, the bed stays in its mould at a
+  // reduced friction while the sleeper seats itself, so that the stones under it can slide into
+  // place under its weight; the mould keeps the bed from flowing out meanwhile.
+  const double f = settings_.mould_seating_friction;
+  const Particles& p = sim_->particles();
+  next_stage(p.subset(bodies_in_section(p, settings_.section, {false, true})), {true, true},
+             {f, f, {}});
+  SettleCriterion c;
+  c.max_time = settings_.max_stage_time;
+  c.ratio = settings_.stage_ratio;
+  model_.require_seated_sleeper(c);
+  report_.stages.push_back(runner_.settle(*sim_, "sleeper seating in the mould", c));
+  restore_friction(f);
 }
 
 void SampleBuilder::trim() {
-  particles_ = sim_->particles().subset(bodies_in_section(sim_->particles(), settings_.section));
+  // A sleeper seated in the mould stays where it is: no stone is inside it.
+  particles_ = sim_->particles().subset(bodies_in_section(
+      sim_->particles(), settings_.section, {true, settings_.mould_seating_friction == 0}));
 }
 
 void SampleBuilder::seat_sleeper() {
-  next_stage(particles_, {false, true}, {});
+  std::optional<MeshBody> seated;
+  if (const int k = sim_->mesh_index(SectionModel::kSleeperName); k >= 0)
+    seated = sim_->meshes()[k];
+  next_stage(particles_, {false, true}, {}, seated);
   SettleCriterion c;
   c.max_time = settings_.max_stage_time;
   model_.require_seated_sleeper(c);

@@ -6,16 +6,21 @@
 //           deposit()          a loose cloud falls and settles under gravity with that friction,
 //                              between the base, the crib walls and vertical mould walls at the
 //                              foot of the slopes; then the friction is restored
+//          [seat_in_mould()]   optionally first: level the crest, clear the sleeper's box, and
+//                              seat the sleeper in the mould at a reduced friction, so that the
+//                              stones under it slide into place; then restore the friction
 //           trim()             keep the stones inside the design profile (cut the slopes, level
 //                              the crest) and clear the sleeper's box; remove the mould
-//           seat_sleeper()     place the sleeper on the bed, press it in with a tamping load
-//                              and let it settle under its weight (servo) to equilibrium
+//           seat_sleeper()     place the sleeper on the bed (or keep it where it was seated),
+//                              press it in with a tamping load and let it settle under its weight
+//                              (servo) to equilibrium
 //
 // Every stage ends on the mean unbalanced force ratio (settling.h).
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,6 +49,10 @@ struct SampleBuildSettings {
   // The sleeper is pressed into the bed with this many times its weight before it is seated
   // under its weight (1: no tamping).
   double tamping_load_factor = 1;
+  // > 0: the sleeper is first seated while the bed is still in its mould, with the ballast
+  // friction scaled by this factor, before the friction is restored and the slopes are cut
+  // (docs/samples.md, "Seating in the mould"); 0: seated on the finished profile only.
+  double mould_seating_friction = 0;
   double stage_ratio = 1e-3;        // equilibrium of the intermediate stages
   double equilibrium_ratio = 1e-4;  // equilibrium of the finished sample
   double max_stage_time = 4.0;      // s simulated per stage at most
@@ -78,12 +87,15 @@ class SampleBuilder {
   void draw_stones();
   void calibrate();
   void deposit();
+  void restore_friction(double factor);  // from `factor` times the ballast's
+  void seat_in_mould();
   void trim();
   void seat_sleeper();
   SimulationSettings stage_settings() const;
   double core_porosity(const Particles& p) const;
   void next_stage(const Particles& particles, const StageWalls& walls,
-                  const StageMaterials& materials);
+                  const StageMaterials& materials,
+                  const std::optional<MeshBody>& sleeper = std::nullopt);
 
   SampleBuildSettings settings_;
   SectionModel model_;

@@ -370,17 +370,18 @@ double sleeper_lift(const Particles& p, const TrackSection& section) {
   return lift;
 }
 
-std::vector<char> bodies_in_section(const Particles& p, const TrackSection& section) {
-  const double lift = sleeper_lift(p, section);
+std::vector<char> bodies_in_section(const Particles& p, const TrackSection& section,
+                                    TrimRule rule) {
+  const double lift = rule.sleeper ? sleeper_lift(p, section) : 0.0;
   std::vector<char> keep(p.num_bodies(), 0);
   for (int b = 0; b < p.num_bodies(); ++b) {
     const Vec3& c = p.x[b];
-    const bool in_prism = c.z() >= 0 && c.z() <= section.crest_z() &&
-                          std::abs(c.y()) <= 0.5 * section.length &&
-                          std::abs(c.x()) <= section.half_base_width() - section.slope * c.z();
+    const bool in_prism =
+        c.z() >= 0 && c.z() <= section.crest_z() && std::abs(c.y()) <= 0.5 * section.length &&
+        (!rule.slopes || std::abs(c.x()) <= section.half_base_width() - section.slope * c.z());
     // Clear of the sleeper at its design position and where it is placed, raised by the lift.
     bool clear = true;
-    for (int e = p.first_element[b]; e < p.first_element[b + 1] && clear; ++e)
+    for (int e = p.first_element[b]; e < p.first_element[b + 1] && clear && rule.sleeper; ++e)
       clear = section.distance_to_sleeper(p.pos[e]) >= p.radius[e] &&
               section.distance_to_sleeper(p.pos[e], lift) >= p.radius[e];
     keep[b] = in_prism && (c.z() < section.depth_under_sleeper || clear);

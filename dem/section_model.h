@@ -114,8 +114,14 @@ std::vector<std::pair<std::string, std::string>> grading_info(const SieveTable& 
 // slopes and the section length), except those whose centre is above the sleeper's bottom and
 // that reach into the sleeper's solid at its design position or where it is placed (raised by
 // sleeper_lift). Stones under the sleeper that protrude into it stay: the sleeper is placed on
-// them and seats itself.
-std::vector<char> bodies_in_section(const Particles& p, const TrackSection& section);
+// them and seats itself. A rule can leave out either cut: the slopes (a bed kept in its mould,
+// only levelled at the crest) or the sleeper's box (a bed whose sleeper is already seated in it).
+struct TrimRule {
+  bool slopes = true;
+  bool sleeper = true;
+};
+std::vector<char> bodies_in_section(const Particles& p, const TrackSection& section,
+                                    TrimRule rule = {});
 // How far above its design position the sleeper must start to clear the bodies centred below its
 // bottom (0 if none reaches into it).
 double sleeper_lift(const Particles& p, const TrackSection& section);

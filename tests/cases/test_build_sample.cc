@@ -309,6 +309,44 @@ void BuildSample::check_case_loading(const fs::path& base) {
   EXPECT_GT(std::stoi(m[1]), 100);
 }
 
+TEST_F(BuildSample, SleeperSeatedInTheMouldStaysWhereItWasSeated) {
+  // The micro section with the sleeper seated in the mould at a third of the friction (at most
+  // 0.3 s simulated per stage: the stage creeps on, docs/samples.md): the stage is run, the
+  // slopes are cut afterwards around the seated sleeper without clearing its box (no stone
+  // inside it: the last stage's set-up refuses overlaps), and the sleeper ends seated under its
+  // weight on the finished profile, lower than on the profile alone (it sank into the bed).
+  const fs::path plain = ball_sample();
+  const fs::path prm = write(
+      "mould.prm", std::string(kMicroSection) +
+                       "subsection build\n  set mould seating friction factor = 0.3\n"
+                       "  set maximum stage time = 0.3\nend\nsubsection output\n  set folder = " +
+                       (dir_ / "mould").string() + "\nend\n");
+  const Result r = run("build-sample " + prm.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const fs::path out = dir_ / "mould";
+  const std::string json = slurp(out / "summary.json");
+  std::vector<std::string> stages;
+  const std::regex name("\"name\": \"([^\"]+)\"");
+  for (auto it = std::sregex_iterator(json.begin(), json.end(), name); it != std::sregex_iterator();
+       ++it)
+    stages.push_back((*it)[1]);
+  EXPECT_EQ(stages,
+            (std::vector<std::string>{"deposition", "settling", "sleeper seating in the mould",
+                                      "friction restored", "sleeper seating"}));
+  const double weight = summary_number(out, "sleeper_weight_n");
+  EXPECT_NEAR(summary_number(out, "sleeper_load_n"), weight, 0.01 * weight);
+  EXPECT_LT(summary_number(out, "unbalanced_force_ratio"), 2e-4);
+  EXPECT_LT(summary_number(out, "sleeper_bottom_z_m"), summary_number(plain, "sleeper_bottom_z_m"));
+  // Trimmed to the profile all the same.
+  const Sample s = read_sample((out / "sample.h5").string());
+  const TrackSection section = section_of(s);
+  for (int b = 0; b < s.particles.num_bodies(); ++b) {
+    const Vec3& x = s.particles.x[b];
+    EXPECT_LE(std::abs(x.x()), section.half_base_width() - section.slope * x.z() + 0.02)
+        << x.transpose();
+  }
+}
+
 TEST_F(BuildSample, ShippedScaledDownSectionMatchesItsReference) {
   // cases/samples/small-section.prm, one thread: its summary against the figures recorded when
   // the build procedure was last changed (docs/samples.md). The build is deterministic; the

@@ -125,10 +125,17 @@ TEST(TrackSection, TrimKeepsTheProfileAndClearsTheSleeper) {
   p.add_ball(Vec3(0, 0.2, 0.4), 0.02, 0, 2800, 3);   // crib, clear: kept
   p.add_ball(Vec3(0, 0, 0.6), 0.02, 0, 2800, 4);     // above the crest: removed
   p.add_ball(Vec3(2.6, 0, 0.2), 0.02, 0, 2800, 5);   // beyond the slope: removed
+  // Beyond the slope at its height, inside the mould (0.05 m from its wall): removed.
+  p.add_ball(Vec3(s.half_base_width() - 0.05, 0, 0.4), 0.02, 0, 2800, 6);
   const std::vector<char> keep = bodies_in_section(p, s);
-  EXPECT_EQ(keep, (std::vector<char>{1, 1, 0, 1, 0, 0}));
+  EXPECT_EQ(keep, (std::vector<char>{1, 1, 0, 1, 0, 0, 0}));
   // The protruding ball lifts the sleeper by its top above the bottom: 0.34 + 0.02 - 0.35.
   EXPECT_NEAR(sleeper_lift(p.subset(keep), s), 0.01, 1e-12);
+  // A bed kept in its mould (slopes not cut) keeps the two balls beyond the slope, inside the
+  // mould; a bed whose sleeper is seated in it keeps the crib ball touching its design side.
+  ASSERT_LT(2.6, s.half_base_width());
+  EXPECT_EQ(bodies_in_section(p, s, {false, true}), (std::vector<char>{1, 1, 0, 1, 0, 1, 1}));
+  EXPECT_EQ(bodies_in_section(p, s, {true, false}), (std::vector<char>{1, 1, 1, 1, 0, 0, 0}));
 }
 
 // A conversion's stages add the clumps' material: the ballast without rolling resistance (the
