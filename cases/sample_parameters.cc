@@ -94,6 +94,9 @@ void declare(ParameterHandler& prm) {
                     "0: the sleeper is seated on the finished profile; a factor in (0, 1]: it is "
                     "first seated while the bed is still in its mould with the ballast friction "
                     "scaled by this factor, then the friction is restored and the slopes cut");
+  prm.declare_entry("mould seating time", default_text(b.mould_seating_time), Double(1e-6, 1e3),
+                    "s simulated at most of the seating in the mould: at a low friction the bed "
+                    "creeps under the sleeper, and the stage ends here unconverged");
   prm.declare_entry("stage ratio", default_text(b.stage_ratio), Double(1e-8, 0.5),
                     "Mean unbalanced force ratio ending the intermediate stages");
   prm.declare_entry("equilibrium ratio", default_text(b.equilibrium_ratio), Double(1e-8, 0.5),
@@ -253,6 +256,7 @@ SampleParameters read_sample_file(const std::string& path) {
       dealii::Utilities::split_string_list(prm.get("calibration friction factors")));
   b.tamping_load_factor = prm.get_double("tamping load factor");
   b.mould_seating_friction = prm.get_double("mould seating friction factor");
+  b.mould_seating_time = prm.get_double("mould seating time");
   b.stage_ratio = prm.get_double("stage ratio");
   b.equilibrium_ratio = prm.get_double("equilibrium ratio");
   b.max_stage_time = prm.get_double("maximum stage time");

@@ -192,7 +192,7 @@ void SampleBuilder::seat_in_mould() {
   next_stage(p.subset(bodies_in_section(p, settings_.section, {false, true})), {true, true},
              {f, f, {}});
   SettleCriterion c;
-  c.max_time = settings_.max_stage_time;
+  c.max_time = settings_.mould_seating_time;
   c.ratio = settings_.stage_ratio;
   model_.require_seated_sleeper(c);
   report_.stages.push_back(runner_.settle(*sim_, "sleeper seating in the mould", c));

@@ -53,6 +53,9 @@ struct SampleBuildSettings {
   // friction scaled by this factor, before the friction is restored and the slopes are cut
   // (docs/samples.md, "Seating in the mould"); 0: seated on the finished profile only.
   double mould_seating_friction = 0;
+  // At most this long (s simulated): at a low friction the bed creeps under the sleeper for as
+  // long as it carries it, and the stage may end here without meeting the seating criterion.
+  double mould_seating_time = 1.0;
   double stage_ratio = 1e-3;        // equilibrium of the intermediate stages
   double equilibrium_ratio = 1e-4;  // equilibrium of the finished sample
   double max_stage_time = 4.0;      // s simulated per stage at most

@@ -310,8 +310,8 @@ void BuildSample::check_case_loading(const fs::path& base) {
 }
 
 TEST_F(BuildSample, SleeperSeatedInTheMouldStaysWhereItWasSeated) {
-  // The micro section with the sleeper seated in the mould at a third of the friction (at most
-  // 0.3 s simulated per stage: the stage creeps on, docs/samples.md): the stage is run, the
+  // The micro section with the sleeper seated in the mould at a third of the friction for at most
+  // 0.3 s simulated (the stage creeps on, docs/samples.md): the stage is run, the
   // slopes are cut afterwards around the seated sleeper without clearing its box (no stone
   // inside it: the last stage's set-up refuses overlaps), and the sleeper ends seated under its
   // weight on the finished profile, lower than on the profile alone (it sank into the bed).
@@ -319,7 +319,7 @@ TEST_F(BuildSample, SleeperSeatedInTheMouldStaysWhereItWasSeated) {
   const fs::path prm = write(
       "mould.prm", std::string(kMicroSection) +
                        "subsection build\n  set mould seating friction factor = 0.3\n"
-                       "  set maximum stage time = 0.3\nend\nsubsection output\n  set folder = " +
+                       "  set mould seating time = 0.3\nend\nsubsection output\n  set folder = " +
                        (dir_ / "mould").string() + "\nend\n");
   const Result r = run("build-sample " + prm.string());
   ASSERT_EQ(r.code, 0) << r.err;
