@@ -200,9 +200,10 @@ void SampleBuilder::seat_in_mould() {
 }
 
 void SampleBuilder::trim() {
-  // A sleeper seated in the mould stays where it is: no stone is inside it.
-  particles_ = sim_->particles().subset(bodies_in_section(
-      sim_->particles(), settings_.section, {true, settings_.mould_seating_friction == 0}));
+  // A sleeper already seated (in the mould) stays where it is: no stone is inside its box.
+  const bool seated = sim_->mesh_index(SectionModel::kSleeperName) >= 0;
+  particles_ = sim_->particles().subset(
+      bodies_in_section(sim_->particles(), settings_.section, {true, !seated}));
 }
 
 void SampleBuilder::seat_sleeper() {

@@ -287,6 +287,15 @@ void Simulation::check_initial_overlaps() const {
   });
 }
 
+void Simulation::mesh_points_now(std::size_t m, std::size_t c,
+                                 std::vector<MeshContactPoint>& points) const {
+  const WallHistory& h = plane_history_[planes_.size() + m];
+  const int e = h.element[c];
+  sphere_mesh_contacts(meshes_[m].world, p_.pos[e], p_.radius[e],
+                       h.triangles.data() + h.triangle_offsets[c],
+                       h.triangle_offsets[c + 1] - h.triangle_offsets[c], points);
+}
+
 template <class Visitor>
 void Simulation::visit_mesh_contacts(Visitor&& visit) const {
   std::vector<MeshContactPoint> points;
@@ -294,9 +303,7 @@ void Simulation::visit_mesh_contacts(Visitor&& visit) const {
     const WallHistory& h = plane_history_[planes_.size() + m];
     for (std::size_t c = 0; c < h.element.size(); ++c) {
       const int e = h.element[c];
-      sphere_mesh_contacts(meshes_[m].world, p_.pos[e], p_.radius[e],
-                           h.triangles.data() + h.triangle_offsets[c],
-                           h.triangle_offsets[c + 1] - h.triangle_offsets[c], points);
+      mesh_points_now(m, c, points);
       const int used = std::min<int>(static_cast<int>(points.size()), WallHistory::kSlots);
       for (int a = 0; a < used; ++a)
         visit(static_cast<int>(m), static_cast<int>(c), e, points[a], a);
@@ -896,9 +903,7 @@ void Simulation::for_each_contact(const std::function<void(const ContactRecord&)
     const TriangleMesh& mesh = meshes_[m].world;
     for (std::size_t c = 0; c < wh.element.size(); ++c) {
       const int e = wh.element[c];
-      sphere_mesh_contacts(mesh, p_.pos[e], p_.radius[e],
-                           wh.triangles.data() + wh.triangle_offsets[c],
-                           wh.triangle_offsets[c + 1] - wh.triangle_offsets[c], now);
+      mesh_points_now(m, c, now);
       for (int a = 0; a < S; ++a) {
         const int k = static_cast<int>(c) * S + a;
         if (wh.fn[k] <= 0) continue;

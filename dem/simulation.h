@@ -177,6 +177,9 @@ class Simulation {
   bool needs_rebuild() const;
   void rebuild();
   void check_initial_overlaps() const;
+  // The contact points of candidate `c` of mesh `m`'s history with that mesh at the current
+  // positions, in the order mesh_forces stores them.
+  void mesh_points_now(std::size_t m, std::size_t c, std::vector<MeshContactPoint>& points) const;
   // Calls visit(mesh, candidate, element, point, slot) for every particle-mesh contact at the
   // current positions, in the order mesh_forces stores them (slot = index among the element's
   // contacts with that mesh, the history slot).
