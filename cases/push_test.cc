@@ -6,6 +6,7 @@
 
 #include "dem/atomic_file.h"
 #include "dem/input_error.h"
+#include "dem/sleeper_support.h"
 
 namespace trackbed::cases {
 
@@ -62,7 +63,8 @@ void PushTest::control(dem::Simulation& sim) {
     if (hold_converged_ || sim.time() >= prm_.max_hold) {
       push_start_ = sim.time();
       start_ = sim.meshes()[mesh_].x[prm_.axis];  // where a free body came to rest
-      record(sim);                                // the first row of push.csv, at zero displacement
+      start_support_ = support_now(sim);
+      record(sim);  // the first row of push.csv, at zero displacement
     }
   }
   double v = 0;
@@ -85,6 +87,18 @@ void PushTest::control(dem::Simulation& sim) {
 
 double PushTest::displacement(const dem::Simulation& sim) const {
   return std::copysign(1.0, velocity_) * (sim.meshes()[mesh_].x[prm_.axis] - start_);
+}
+
+std::vector<double> PushTest::support_now(const dem::Simulation& sim) const {
+  const dem::SleeperSupport support = dem::sleeper_support(sim, mesh_);
+  // Shares of an upward load only: a body the bed does not carry (a plate pushing balls) has none.
+  const double load = support.vertical_load();
+  const double per_load = load > 0 ? 1 / load : NAN;
+  std::vector<double> v;
+  for (const auto& part : support.parts)
+    v.insert(v.end(), {double(part.contacts), part.force.z() * per_load});
+  v.push_back(support.part("base") ? support.largest_base_contact * per_load : NAN);
+  return v;
 }
 
 void PushTest::record(const dem::Simulation& sim) {
@@ -129,7 +143,7 @@ void PushTest::write_csv(const std::string& path) const {
 
 PushTest::Progress PushTest::progress() const {
   Progress p{start_,         push_start_,     hold_ratio_, static_cast<long>(leg_),
-             confirmations_, hold_converged_, {}};
+             confirmations_, hold_converged_, {},          start_support_};
   for (const Row& r : rows_) {
     std::vector<double> v = {r.time, r.displacement, r.resistance, r.vertical_load};
     v.insert(v.end(), r.part_resistance.begin(), r.part_resistance.end());
@@ -146,12 +160,18 @@ void PushTest::resume(const Progress& p) {
       throw dem::InputError("push test: a saved row has " + std::to_string(v.size()) +
                             " numbers; valid: " + std::to_string(columns) + " for the mesh '" +
                             prm_.mesh + "' and its parts");
+  if (!p.start_support.empty() && p.start_support.size() != 2 * parts_.size() + 1)
+    throw dem::InputError("push test: the saved support at the push start has " +
+                          std::to_string(p.start_support.size()) +
+                          " numbers; valid: " + std::to_string(2 * parts_.size() + 1) +
+                          " for the mesh '" + prm_.mesh + "' and its parts");
   if (p.leg < 0 || p.leg > static_cast<long>(prm_.path.size()))
     throw dem::InputError("push test: the saved leg " + std::to_string(p.leg) +
                           " is not one of the path's " + std::to_string(prm_.path.size()));
   start_ = p.start, push_start_ = p.push_start, hold_ratio_ = p.hold_ratio;
   leg_ = static_cast<std::size_t>(p.leg), confirmations_ = p.confirmations;
   hold_converged_ = p.hold_converged;
+  start_support_ = p.start_support;
   rows_.clear();
   for (const auto& v : p.rows) {
     const std::size_t n = parts_.size();
@@ -259,6 +279,16 @@ std::vector<SummaryItem> PushTest::summary() const {
   for (std::size_t k = 0; k < parts_.size(); ++k)
     items.push_back({"share_" + parts_[k], "share of " + parts_[k] + " at the peak", "",
                      total != 0 ? part[k] / total : NAN});
+  for (std::size_t k = 0; k < parts_.size() && !start_support_.empty(); ++k) {
+    items.push_back({"start_" + parts_[k] + "_contacts", "push start: " + parts_[k] + " contacts",
+                     "", start_support_[2 * k]});
+    items.push_back({"start_" + parts_[k] + "_load_share",
+                     "push start: " + parts_[k] + " share of vertical load", "",
+                     start_support_[2 * k + 1]});
+  }
+  if (!start_support_.empty())
+    items.push_back({"start_largest_base_contact_share", "push start: largest base contact share",
+                     "", start_support_.back()});
   return items;
 }
 

@@ -23,6 +23,11 @@
 // mass), so the push starts from a body at rest under zero net load along it, as one that no
 // actuator holds, and the displacement counts from where it then stands.
 //
+// Where the body gets its support when the push starts (dem/sleeper_support.h: per part its
+// contacts and its share of the vertical load, and the largest base contact's share) enters the
+// summary: the case's hold re-settles the sample's bed under the case's contacts, and the push
+// starts from the support the hold left, not the sample's.
+//
 // Outputs: push.csv (one row per history row of the push), summary items, push.png.
 // Theory and definitions: docs/validation.md, "Lateral push test".
 #pragma once
@@ -80,6 +85,7 @@ class PushTest {
     int confirmations = 0;
     bool hold_converged = false;
     std::vector<std::vector<double>> rows;
+    std::vector<double> start_support;  // empty while held
   };
   Progress progress() const;
   // Throws dem::InputError if the rows do not have this test's columns.
@@ -94,6 +100,9 @@ class PushTest {
   };
   double displacement(const dem::Simulation& sim) const;
   double path_length() const;
+  // The body's support at the push start, as start_support_ holds it: per part its contacts and
+  // its share of the vertical load, then the largest base contact's share.
+  std::vector<double> support_now(const dem::Simulation& sim) const;
   // The rows [first, last) about row k that stay within prm_.smoothing / 2 of its displacement,
   // contiguous in time (a path passes a displacement more than once).
   std::pair<std::size_t, std::size_t> window(std::size_t k) const;
@@ -113,6 +122,7 @@ class PushTest {
   bool hold_converged_ = false;
   std::vector<std::string> parts_;
   std::vector<Row> rows_;
+  std::vector<double> start_support_;  // support_now() at the push start
 };
 
 }  // namespace trackbed::cases

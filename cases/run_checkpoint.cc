@@ -61,6 +61,7 @@ void write_run_checkpoint(const std::string& path, const RunCheckpoint& c) {
       for (const auto& r : p.rows) flat.insert(flat.end(), r.begin(), r.end());
       hdf5::write_doubles(g, "rows", flat.data(), p.rows.size(), cols);  // cols >= 7
       hdf5::write_string_attribute(g, "columns", std::to_string(cols));
+      if (!p.start_support.empty()) hdf5::write_doubles(g, "start_support", p.start_support);
     }
   });
 }
@@ -103,6 +104,9 @@ RunCheckpoint read_run_checkpoint(const std::string& path) {
       throw dem::InputError(path + ": push/rows does not hold whole rows; the file is damaged");
     for (std::size_t k = 0; cols > 0 && k < flat.size(); k += cols)
       c.push.rows.emplace_back(flat.begin() + k, flat.begin() + k + cols);
+    // Written once the push has started (absent from the checkpoints of trackbed before it).
+    if (hdf5::exists(g, "start_support"))
+      c.push.start_support = hdf5::read_doubles(g, path, "start_support");
   }
   return c;
 }

@@ -62,6 +62,20 @@ inline void check_reference(const std::string& csv, const std::string& model,
   EXPECT_GT(checked, 0) << "no reference figures for " << model << " in " << csv;
 }
 
+// The seated sleeper's support in FOLDER/summary.json, its keys starting with PREFIX (sleeper_ in
+// a sample's summary, start_ in a push's at the push start): the parts' shares of its vertical
+// load sum to one (the load is their sum; dashpots at rest carry nothing), and it stands on its
+// base, which carries most of it (the crib stones against its sides 0.1-0.2 in the samples,
+// docs/samples.md).
+inline void expect_sleeper_on_its_base(const fs::path& folder, const std::string& prefix) {
+  double shares = 0;
+  for (const char* part : {"base", "top", "sides", "ends"})
+    shares += summary_number(folder, prefix + part + "_load_share");
+  EXPECT_NEAR(shares, 1, 1e-6) << prefix;
+  EXPECT_GE(summary_number(folder, prefix + "base_contacts"), 1) << prefix;
+  EXPECT_GT(summary_number(folder, prefix + "base_load_share"), 0.5) << prefix;
+}
+
 class Cli : public ::testing::Test {
  protected:
   void SetUp() override {

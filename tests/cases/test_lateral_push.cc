@@ -35,6 +35,11 @@ class LateralPush : public Study {
     EXPECT_NEAR(shares, 1.0, 1e-9);
     EXPECT_GT(summary_number(out, "share_base"), 0.0);
     EXPECT_GT(summary_number(out, "peak_lateral_force_n"), 0.0);
+    // Where the sleeper rests when the push starts (after the case's hold), and no base contact
+    // carries more than the base.
+    expect_sleeper_on_its_base(out, "start_");
+    EXPECT_LE(summary_number(out, "start_largest_base_contact_share"),
+              summary_number(out, "start_base_load_share") + 1e-12);
     check_reference_of(model);
   }
 };
