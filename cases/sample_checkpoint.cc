@@ -15,6 +15,9 @@ using dem::hdf5::Handle;
 namespace hdf5 = dem::hdf5;
 
 constexpr const char* kFormat = "trackbed sample build checkpoint 1";
+// Its part (attribute `part`; a checkpoint without it was taken in a conversion).
+constexpr const char* kBallBuild = "ball build";
+constexpr const char* kConversion = "conversion";
 constexpr const char* kWhat = "a checkpoint of trackbed build-sample (checkpoint.h5 of its folder)";
 constexpr int kStageColumns = 9;
 constexpr int kHistoryColumns = 7;
@@ -63,6 +66,37 @@ std::vector<dem::StageReport> read_stages(hid_t g, const std::string& file, cons
   return out;
 }
 
+// The ball build's report (dem::BuildReport) less its stages.
+void write_ball_build(hid_t file, const dem::BuildCheckpoint& b) {
+  const dem::BuildReport& r = b.report;
+  Handle g(hdf5::create_group(file, "ball_build"), H5Gclose, "group ball_build");
+  hdf5::write_doubles(
+      g, "report",
+      {double(r.stones_drawn), r.deposition_friction_factor, r.porosity, b.sleeper_lift});
+  std::vector<dem::StageReport> stages;
+  std::vector<double> points;
+  for (const auto& p : r.calibration) {
+    stages.push_back(p.stage);
+    points.insert(points.end(), {p.friction_factor, p.porosity});
+  }
+  write_stages(g, "calibration_stages", stages);
+  hdf5::write_doubles(g, "calibration", points);
+}
+
+void read_ball_build(hid_t file, const std::string& path, dem::BuildCheckpoint& b) {
+  dem::BuildReport& r = b.report;
+  Handle g(hdf5::open_group(file, path, "ball_build"), H5Gclose, "group ball_build");
+  const auto n = hdf5::read_doubles(g, path, "report", 4);
+  r.stones_drawn = static_cast<int>(n[0]);
+  r.deposition_friction_factor = n[1];
+  r.porosity = n[2];
+  b.sleeper_lift = n[3];
+  const auto stages = read_stages(g, path, "calibration_stages");
+  const auto points = hdf5::read_doubles(g, path, "calibration", 2 * long(stages.size()));
+  for (std::size_t k = 0; k < stages.size(); ++k)
+    r.calibration.push_back({points[2 * k], points[2 * k + 1], stages[k]});
+}
+
 }  // namespace
 
 std::string sample_digest(const dem::Sample& sample) {
@@ -82,6 +116,14 @@ std::string sample_digest(const dem::Sample& sample) {
   return text;
 }
 
+std::string SampleCheckpoint::where() const {
+  if (in_ball_build)
+    return "ball build's " + dem::to_string(ball_build.stage) + " stage at step " +
+           std::to_string(ball_build.point.steps);
+  return std::string(conversion.stage == 0 ? "clump growth" : "equilibrium") + " stage at step " +
+         std::to_string(conversion.point.steps);
+}
+
 void write_sample_checkpoint(const std::string& path, const SampleCheckpoint& c) {
   hdf5::write_file(path, "checkpoint", [&](hid_t file) {
     hdf5::write_string_attribute(file, "format", kFormat);
@@ -90,17 +132,24 @@ void write_sample_checkpoint(const std::string& path, const SampleCheckpoint& c)
     hdf5::write_string_attribute(file, "fingerprint", c.fingerprint);
     hdf5::write_string_attribute(file, "base_digest", c.base_digest);
     hdf5::write_string_attribute(file, "threads", std::to_string(c.threads));
+    hdf5::write_string_attribute(file, "part", c.in_ball_build ? kBallBuild : kConversion);
+    const dem::BuildCheckpoint& b = c.ball_build;
+    const dem::ConversionCheckpoint& v = c.conversion;
     {
       Handle g(hdf5::create_group(file, "engine"), H5Gclose, "group engine");
-      dem::write_engine_state(g, c.conversion.engine);
+      dem::write_engine_state(g, c.in_ball_build ? b.engine : v.engine);
     }
+    if (c.in_ball_build) write_ball_build(file, b);
     Handle build(hdf5::create_group(file, "build"), H5Gclose, "group build");
-    const dem::ConversionCheckpoint& v = c.conversion;
-    const std::vector<double> counters = {double(v.stage), double(v.point.steps),
-                                          double(v.point.below), v.point.wall_time, c.wall_seconds};
+    const int stage = c.in_ball_build ? static_cast<int>(b.stage) : v.stage;
+    const dem::StagePoint& at = c.in_ball_build ? b.point : v.point;
+    const std::vector<double> counters = {double(stage), double(at.steps), double(at.below),
+                                          at.wall_time, c.wall_seconds};
     hdf5::write_doubles(build, "counters", counters);
-    hdf5::write_doubles(build, "criterion_memory", v.criterion_memory);
-    write_stages(build, "conversion_stages", v.done);
+    hdf5::write_doubles(build, "criterion_memory",
+                        c.in_ball_build ? b.criterion_memory : v.criterion_memory);
+    // The stages the running part finished before.
+    write_stages(build, "conversion_stages", c.in_ball_build ? b.report.stages : v.done);
     write_stages(build, "build_stages", c.stages);
     std::vector<std::string> keys, values;
     for (const auto& [k, x] : c.notes) keys.push_back(k), values.push_back(x);
@@ -133,23 +182,41 @@ SampleCheckpoint read_sample_checkpoint(const std::string& path) {
   c.fingerprint = hdf5::read_string_attribute(file, path, "fingerprint");
   c.base_digest = hdf5::read_string_attribute(file, path, "base_digest");
   c.threads = std::stoi(hdf5::read_string_attribute(file, path, "threads"));
+  const std::string part = H5Aexists(file, "part") > 0
+                               ? hdf5::read_string_attribute(file, path, "part")
+                               : std::string(kConversion);
+  if (part != kBallBuild && part != kConversion)
+    throw dem::InputError(path + ": part = '" + part + "'; valid: '" + kBallBuild + "' or '" +
+                          kConversion + "'; the file is damaged");
+  c.in_ball_build = part == kBallBuild;
+  dem::BuildCheckpoint& b = c.ball_build;
   dem::ConversionCheckpoint& v = c.conversion;
   {
     Handle g(hdf5::open_group(file, path, "engine"), H5Gclose, "group engine");
-    v.engine = dem::read_engine_state(g, path);
+    (c.in_ball_build ? b.engine : v.engine) = dem::read_engine_state(g, path);
   }
+  if (c.in_ball_build) read_ball_build(file, path, b);
   Handle build(hdf5::open_group(file, path, "build"), H5Gclose, "group build");
   const auto n = hdf5::read_doubles(build, path, "counters", 5);
-  v.stage = static_cast<int>(n[0]);
-  if (v.stage != 0 && v.stage != 1)
-    throw dem::InputError(path + ": build/counters names stage " + std::to_string(v.stage) +
-                          "; valid: 0 (growth) or 1 (equilibrium); the file is damaged");
-  v.point.steps = std::lround(n[1]);
-  v.point.below = static_cast<int>(n[2]);
-  v.point.wall_time = n[3];
+  const int stage = static_cast<int>(n[0]);
+  const int last = c.in_ball_build ? dem::kBuildStages - 1 : 1;
+  if (stage < 0 || stage > last)
+    throw dem::InputError(path + ": build/counters names stage " + std::to_string(stage) +
+                          " of the " + part + "; valid: 0 to " + std::to_string(last) +
+                          "; the file is damaged");
+  dem::StagePoint& at = c.in_ball_build ? b.point : v.point;
+  at.steps = std::lround(n[1]);
+  at.below = static_cast<int>(n[2]);
+  at.wall_time = n[3];
   c.wall_seconds = n[4];
-  v.criterion_memory = hdf5::read_doubles(build, path, "criterion_memory");
-  v.done = read_stages(build, path, "conversion_stages");
+  (c.in_ball_build ? b.criterion_memory : v.criterion_memory) =
+      hdf5::read_doubles(build, path, "criterion_memory");
+  auto& done = c.in_ball_build ? b.report.stages : v.done;
+  done = read_stages(build, path, "conversion_stages");
+  if (c.in_ball_build)
+    b.stage = static_cast<dem::BuildStage>(stage);
+  else
+    v.stage = stage;
   c.stages = read_stages(build, path, "build_stages");
   const auto keys = hdf5::read_strings(build, path, "note_keys");
   const auto values = hdf5::read_strings(build, path, "note_values");

@@ -64,11 +64,27 @@ void SampleRun::connect(dem::StageRunner& runner) {
   runner.on_sample = [this](const dem::SettleSample& s) { history_.push_back(s); };
 }
 
-dem::Sample SampleRun::build_ball_sample() {
+void SampleRun::stop_at_checks() {
+  catch_stop_signals();
+  last_checkpoint_ = std::chrono::steady_clock::now();
+}
+
+dem::Sample SampleRun::build_ball_sample(dem::BuildCheckpoint* from) {
   dem::SampleBuilder builder(prm_.build);
   connect(builder.runner());
-  std::cout << "trackbed: building the ball sample of the section" << std::endl;
-  dem::Sample sample = builder.run();
+  builder.runner().at_check = [&](const dem::StagePoint& at) {
+    // Not in the calibration: its depositions of a small box are made again on resume.
+    if (!builder.in_stage()) return;
+    long step = at.steps;  // of the build, calibration included
+    for (const auto& s : builder.report().stages) step += s.steps;
+    at_check(step, [&](SampleCheckpoint& c) {
+      c.in_ball_build = true;
+      c.ball_build = builder.checkpoint(at);
+    });
+  };
+  if (!from) std::cout << "trackbed: building the ball sample of the section" << std::endl;
+  stop_at_checks();
+  dem::Sample sample = builder.run(from);
   const dem::BuildReport& r = builder.report();
   stages_.insert(stages_.end(), r.stages.begin(), r.stages.end());
   notes_.push_back({"stones_drawn", number(r.stones_drawn)});
@@ -97,11 +113,11 @@ dem::Sample SampleRun::convert(const dem::Sample& base, dem::ConversionCheckpoin
             << std::endl;
   report_pilots(*zone, from != nullptr);
   connect(conversion.runner());
-  conversion.runner().at_check = [&](const dem::StagePoint& at) { at_check(conversion, at); };
-  // From here on Ctrl-C and SIGTERM end the build at the conversion's next check, with a
-  // checkpoint.
-  catch_stop_signals();
-  last_checkpoint_ = std::chrono::steady_clock::now();
+  conversion.runner().at_check = [&](const dem::StagePoint& at) {
+    at_check(conversion.simulation().step_count(),
+             [&](SampleCheckpoint& c) { c.conversion = conversion.checkpoint(at); });
+  };
+  stop_at_checks();
   base_digest_ = sample_digest(base);
   if (from && from_digest_ != base_digest_)
     throw dem::InputError(prm_.file +
@@ -138,19 +154,19 @@ void SampleRun::report_pilots(const dem::Zone& zone, bool resumed) {
   }
 }
 
-void SampleRun::at_check(const dem::ClumpConversion& conversion, const dem::StagePoint& at) {
-  if (test_signal_.first >= 0 && conversion.simulation().step_count() >= test_signal_.first) {
+void SampleRun::at_check(long step, const PartState& part) {
+  if (test_signal_.first >= 0 && step >= test_signal_.first) {
     test_signal_.first = -1;
     std::raise(test_signal_.second);
   }
   const bool stop = stop_signal() != 0;
   const bool checkpoints = prm_.checkpoint_interval > 0;
   if (checkpoints && (stop || seconds_since(last_checkpoint_) >= prm_.checkpoint_interval))
-    write_checkpoint(conversion.checkpoint(at));
+    write_checkpoint(part);
   if (stop) throw BuildInterrupted{};
 }
 
-void SampleRun::write_checkpoint(dem::ConversionCheckpoint conversion) {
+void SampleRun::write_checkpoint(const PartState& part) {
   SampleCheckpoint c;
   c.sample_file = fs::absolute(prm_.file).lexically_normal().string();
   c.fingerprint = prm_.fingerprint;
@@ -161,7 +177,7 @@ void SampleRun::write_checkpoint(dem::ConversionCheckpoint conversion) {
   c.stages = stages_;
   c.notes = notes_;
   c.history = history_;
-  c.conversion = std::move(conversion);
+  part(c);
   write_sample_checkpoint(out_ + "/" + kCheckpointFile, c);
   last_checkpoint_ = std::chrono::steady_clock::now();
 }
@@ -176,10 +192,10 @@ int SampleRun::resume(SampleCheckpoint checkpoint) {
   notes_ = std::move(checkpoint.notes);
   earlier_wall_seconds_ = checkpoint.wall_seconds;
   from_digest_ = checkpoint.base_digest;
-  const dem::ConversionCheckpoint& c = checkpoint.conversion;
+  const double t = (checkpoint.in_ball_build ? checkpoint.ball_build.engine.time
+                                             : checkpoint.conversion.engine.time);
   std::cout << "trackbed: resuming " << prm_.file << " in " << prm_.output_folder << " in its "
-            << (c.stage == 0 ? "clump growth" : "equilibrium") << " stage at step " << c.point.steps
-            << " (t = " << c.engine.time << " s)" << std::endl;
+            << checkpoint.where() << " (t = " << t << " s)" << std::endl;
   return build(&checkpoint);
 }
 
@@ -188,21 +204,23 @@ int SampleRun::build(SampleCheckpoint* from) {
   if (prm_.threads > 0) omp_set_num_threads(prm_.threads);
   out_ = prm_.output_folder;
   fs::create_directories(fs::path(out_) / "history");
-  dem::ConversionCheckpoint* resumed = from ? &from->conversion : nullptr;
+  dem::BuildCheckpoint* in_ball_build = from && from->in_ball_build ? &from->ball_build : nullptr;
+  dem::ConversionCheckpoint* in_conversion =
+      from && !from->in_ball_build ? &from->conversion : nullptr;
   try {
     if (prm_.preset == "all-ball") {
-      build_ball_sample();
+      build_ball_sample(in_ball_build);
     } else if (!prm_.base_sample.empty()) {
       const dem::Sample base = dem::read_sample(prm_.base_sample);
       if (base.particles.num_clumps() > 0 && base.num_balls() == 0)
         throw dem::InputError(prm_.base_sample +
                               ": the base sample has no balls to convert; "
                               "valid: a ball sample (zone preset all-ball)");
-      convert(base, resumed);
-    } else if (from) {
-      convert(dem::read_sample(out_ + "/base.h5"), resumed);  // built by the interrupted run
+      convert(base, in_conversion);
+    } else if (in_conversion) {
+      convert(dem::read_sample(out_ + "/base.h5"), in_conversion);  // built by the interrupted run
     } else {
-      const dem::Sample base = build_ball_sample();
+      const dem::Sample base = build_ball_sample(in_ball_build);
       dem::write_sample(out_ + "/base.h5", base);
       convert(base, nullptr);
     }

@@ -8,12 +8,13 @@
 //                                   sleeper's height and load per check
 //   particles.vtu, contacts.vtu, walls.vtu, sample.pvd   ParaView
 //   sample.png                      a cross-section and a plan view drawn from particles.vtu
-//   checkpoint.h5                   while a conversion to clumps runs: the state to resume from
+//   checkpoint.h5                   while the build runs: the state to resume from
 //                                   (sample_checkpoint.h), every `output/checkpoint interval` of
 //                                   wall time and on Ctrl-C or SIGTERM; removed when done
 #pragma once
 
 #include <chrono>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -31,18 +32,24 @@ class SampleRun {
   explicit SampleRun(SampleParameters parameters);
   // Returns the process exit status: 0 done, 130 interrupted by a signal.
   int run();
-  // Continues a build interrupted in its conversion from its checkpoint, in its results folder.
+  // Continues an interrupted build from its checkpoint, in its results folder.
   int resume(SampleCheckpoint checkpoint);
 
  private:
+  // What a checkpoint holds of the part of the build that runs (ball build or conversion).
+  using PartState = std::function<void(SampleCheckpoint&)>;
+
   int build(SampleCheckpoint* from);
-  dem::Sample build_ball_sample();
+  dem::Sample build_ball_sample(dem::BuildCheckpoint* from);
   dem::Sample convert(const dem::Sample& base, dem::ConversionCheckpoint* from);
   void report_pilots(const dem::Zone& zone, bool resumed);
-  // At every check of the conversion: a checkpoint when one is due or a signal came, and the
-  // build's end on a signal.
-  void at_check(const dem::ClumpConversion& conversion, const dem::StagePoint& at);
-  void write_checkpoint(dem::ConversionCheckpoint conversion);
+  // From here on Ctrl-C and SIGTERM end the build at the next check of a stage, with a
+  // checkpoint.
+  void stop_at_checks();
+  // At every check of a stage: a checkpoint when one is due or a signal came, and the build's
+  // end on a signal. `step`: where the tests' signal (TRACKBED_TEST_SIGNAL) is due.
+  void at_check(long step, const PartState& part);
+  void write_checkpoint(const PartState& part);
   void connect(dem::StageRunner& runner);
   void write_outputs(const dem::Sample& sample, const dem::Simulation& sim,
                      const dem::Sample* base);

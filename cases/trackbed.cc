@@ -34,8 +34,9 @@ const char* const kUsage =
     "Runs the railway ballast model described by CASE.prm (deal.II parameter file syntax) and\n"
     "writes a results folder: CSV histories, ParaView files, HDF5 snapshots, summary.json,\n"
     "summary.txt and plot.png. The default case is cases/default.prm.\n"
-    "resume continues a run that was interrupted (Ctrl-C, SIGTERM, a crash) from the last\n"
-    "checkpoint in its results folder DIR, and ends it as the uninterrupted run would have.\n"
+    "resume continues a run or a sample build that was interrupted (Ctrl-C, SIGTERM, a crash)\n"
+    "from the last checkpoint in its results folder DIR, and ends it as the uninterrupted one\n"
+    "would have.\n"
     "build-sample builds a ballast sample of a track section (deposition, compaction, sleeper\n"
     "seating, balls converted to clumps in a zone) and writes sample.h5 for cases to load.\n"
     "  --mode      override 'mode' (dem: DEM with rigid walls; coupled: with the FE tier)\n"
@@ -141,7 +142,7 @@ int resume(const std::vector<std::string>& args) {
     if (fs::is_regular_file(fs::path(dir) / "sample.h5"))
       return fail(dir + ": the sample build finished; there is nothing to resume");
     return fail(path +
-                ": no such file; valid: the results folder of a run or a conversion to clumps "
+                ": no such file; valid: the results folder of a run or a sample build "
                 "interrupted after its first checkpoint (output/checkpoint interval, and on "
                 "Ctrl-C or SIGTERM)");
   }

@@ -28,15 +28,20 @@ Particles ball_cloud(const std::vector<double>& sizes, const Vec3& lower, const 
   return p;
 }
 
+SettleCriterion deposition_criterion(double ratio, double max_stage_time, bool fall) {
+  SettleCriterion c;
+  c.max_time = max_stage_time;
+  c.ratio = fall ? 10 * ratio : ratio;
+  return c;
+}
+
 void deposit(Simulation& sim, const DepositionStages& stages, StageRunner& runner,
              std::vector<StageReport>& reports) {
-  SettleCriterion c;
-  c.max_time = stages.max_stage_time;
-  c.ratio = 10 * stages.ratio;
-  reports.push_back(runner.settle(sim, "deposition", c));
+  reports.push_back(runner.settle(sim, "deposition",
+                                  deposition_criterion(stages.ratio, stages.max_stage_time, true)));
   sim.set_materials(stages.settle);
-  c.ratio = stages.ratio;
-  reports.push_back(runner.settle(sim, "settling", c));
+  reports.push_back(runner.settle(
+      sim, "settling", deposition_criterion(stages.ratio, stages.max_stage_time, false)));
 }
 
 }  // namespace trackbed::dem

@@ -21,6 +21,10 @@ struct DepositionStages {
   double max_stage_time = 4;
 };
 
+// The criterion of the fall (`fall`) or of the settling: the settling ends at `ratio`, the fall
+// at ten times it (the bed still slides into place; the settling judges it).
+SettleCriterion deposition_criterion(double ratio, double max_stage_time, bool fall);
+
 // Runs the fall and the settling of `sim` (built by the caller with `stages.fall`), appending a
 // report per stage.
 void deposit(Simulation& sim, const DepositionStages& stages, StageRunner& runner,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <sstream>
 
@@ -78,8 +79,38 @@ double SampleBuilder::core_porosity(const Particles& p) const {
   return porosity_in_box(p, lo, hi, 0.1 * settings_.grading.size.front()).porosity;
 }
 
-void SampleBuilder::next_stage(const Particles& particles, const StageWalls& walls,
-                               const StageMaterials& materials,
+std::string to_string(BuildStage s) {
+  static const char* const names[kBuildStages] = {"deposition",
+                                                  "settling",
+                                                  "friction restored",
+                                                  "sleeper seating in the mould",
+                                                  "friction restored in the mould",
+                                                  "sleeper tamping",
+                                                  "sleeper seating"};
+  return names[static_cast<int>(s)];
+}
+
+SampleBuilder::StageModel SampleBuilder::model_of(BuildStage s) const {
+  const double f = report_.deposition_friction_factor, m = settings_.mould_seating_friction;
+  switch (s) {
+    case BuildStage::deposition:
+      return {{true, false}, {f, f, settings_.deposition_damping}};
+    case BuildStage::settling:
+      return {{true, false}, {f, f, {}}};
+    case BuildStage::friction_restored:
+      return {{true, false}, {}};
+    case BuildStage::mould_seating:
+      return {{true, true}, {m, m, {}}};
+    case BuildStage::mould_friction_restored:
+      return {{true, true}, {}};
+    case BuildStage::tamping:
+    case BuildStage::seating:
+      break;
+  }
+  return {{false, true}, {}};
+}
+
+void SampleBuilder::next_stage(const Particles& particles, const StageModel& m,
                                const std::optional<MeshBody>& sleeper) {
   ContactState carried;
   double dt = 0;
@@ -93,7 +124,7 @@ void SampleBuilder::next_stage(const Particles& particles, const StageWalls& wal
                                        [&](const SavedWallContact& c) { return c.wall >= common; }),
                         carried.walls.end());
   }
-  sim_ = std::make_unique<Simulation>(model_.make(particles, walls, materials, sleeper));
+  sim_ = std::make_unique<Simulation>(model_.make(particles, m.walls, m.materials, sleeper));
   sim_->setup();
   if (dt > 0) {
     // The first stage's step holds for the later ones unless their contacts need a smaller one.
@@ -102,13 +133,71 @@ void SampleBuilder::next_stage(const Particles& particles, const StageWalls& wal
   }
 }
 
-Sample SampleBuilder::run() {
+bool SampleBuilder::begin(BuildStage s, const std::function<void()>& make) {
+  if (resume_ && s < resume_->stage) return false;  // finished before the checkpoint
+  stage_ = s;
+  if (resume_ && s == resume_->stage)
+    restore();
+  else
+    make();
+  return true;
+}
+
+void SampleBuilder::restore() {
+  const StageModel m = model_of(resume_->stage);
+  // The saved bodies stand where the stage left them, in contact with their neighbours: the
+  // overlap check of a model's start does not apply to them.
+  SimulationSettings s = stage_settings();
+  s.initial_overlap_ratio = std::numeric_limits<double>::infinity();
+  const SectionModel model(settings_.section, settings_.materials, s,
+                           settings_.preparation_damping);
+  // The sleeper's mesh made as it was, bit for bit, before its pose is restored.
+  sleeper_lift_ = resume_->sleeper_lift;
+  std::optional<MeshBody> sleeper;
+  if (m.walls.sleeper) sleeper = model_.sleeper_at(sleeper_lift_);
+  sim_ = std::make_unique<Simulation>(
+      model.make(resume_->engine.particles, m.walls, m.materials, sleeper));
+  sim_->setup();
+  sim_->restore_engine_state(std::move(resume_->engine));
+}
+
+void SampleBuilder::settle(const std::string& name, const SettleCriterion& c) {
+  criterion_ = c;
+  StagePoint start;
+  if (resume_) {
+    if (criterion_.restore_memory) criterion_.restore_memory(resume_->criterion_memory);
+    start = resume_->point;
+    resume_ = nullptr;
+  }
+  in_stage_ = true;
+  report_.stages.push_back(runner_.settle(*sim_, name, criterion_, start));
+  in_stage_ = false;
+}
+
+BuildCheckpoint SampleBuilder::checkpoint(const StagePoint& at) const {
+  BuildCheckpoint c;
+  c.stage = stage_;
+  c.point = at;
+  if (criterion_.memory) c.criterion_memory = criterion_.memory();
+  c.report = report_;
+  c.sleeper_lift = sleeper_lift_;
+  c.engine = sim_->engine_state();
+  return c;
+}
+
+Sample SampleBuilder::run(BuildCheckpoint* from) {
+  resume_ = from;
   draw_stones();
-  calibrate();
+  if (from)
+    report_ = from->report;  // the calibration's outcome with the stages finished
+  else
+    calibrate();
   deposit();
   if (settings_.mould_seating_friction > 0) seat_in_mould();
-  trim();
   seat_sleeper();
+  if (resume_)
+    throw InputError("the checkpoint was taken in the stage '" + to_string(resume_->stage) +
+                     "', which this build does not have; valid: a checkpoint of the same build");
   std::map<std::int64_t, double> size_of_id;
   for (std::size_t id = 0; id < sieve_size_.size(); ++id) size_of_id[id] = sieve_size_[id];
   Sample sample = model_.to_sample(*sim_, {}, size_of_id, {});
@@ -160,71 +249,92 @@ void SampleBuilder::calibrate() {
 void SampleBuilder::deposit() {
   const TrackSection& s = settings_.section;
   const double f = report_.deposition_friction_factor;
-  const Particles cloud =
-      ball_cloud(sieve_size_, Vec3(-s.half_base_width(), -0.5 * s.length, 0),
-                 Vec3(s.half_base_width(), 0.5 * s.length, 0), settings_.cloud_solid_fraction, 0,
-                 settings_.materials.ballast.density, settings_.seed + 1);
-  const StageMaterials fall{f, f, settings_.deposition_damping};
-  next_stage(cloud, {true, false}, fall);
-  dem::deposit(*sim_,
-               {model_.material_table(fall), model_.material_table({f, f, {}}),
-                settings_.stage_ratio, settings_.max_stage_time},
-               runner_, report_.stages);
-  report_.porosity = core_porosity(sim_->particles());
-  if (settings_.mould_seating_friction == 0) restore_friction(f);
+  if (begin(BuildStage::deposition, [&] {
+        next_stage(
+            ball_cloud(sieve_size_, Vec3(-s.half_base_width(), -0.5 * s.length, 0),
+                       Vec3(s.half_base_width(), 0.5 * s.length, 0), settings_.cloud_solid_fraction,
+                       0, settings_.materials.ballast.density, settings_.seed + 1),
+            model_of(BuildStage::deposition));
+      }))
+    settle("deposition",
+           deposition_criterion(settings_.stage_ratio, settings_.max_stage_time, true));
+  if (begin(BuildStage::settling, [&] {
+        sim_->set_materials(model_.material_table(model_of(BuildStage::settling).materials));
+      })) {
+    settle("settling",
+           deposition_criterion(settings_.stage_ratio, settings_.max_stage_time, false));
+    report_.porosity = core_porosity(sim_->particles());
+  }
+  if (settings_.mould_seating_friction == 0) restore_friction(BuildStage::friction_restored, f);
 }
 
-void SampleBuilder::restore_friction(double factor) {
+void SampleBuilder::restore_friction(BuildStage s, double factor) {
   if (factor == 1) return;
-  sim_->set_materials(model_.material_table());
+  if (!begin(s, [&] { sim_->set_materials(model_.material_table(model_of(s).materials)); })) return;
   SettleCriterion c;
   c.max_time = settings_.max_stage_time;
   c.ratio = settings_.stage_ratio;
-  report_.stages.push_back(runner_.settle(*sim_, "friction restored", c));
+  settle("friction restored", c);
 }
 
 void SampleBuilder::seat_in_mould() {
   // Levelled at the crest and cleared of the sleeper's box, the bed stays in its mould at a
   // reduced friction while the sleeper seats itself, so that the stones under it can slide into
   // place under its weight; the mould keeps the bed from flowing out meanwhile.
-  const double f = settings_.mould_seating_friction;
-  const Particles& p = sim_->particles();
-  next_stage(p.subset(bodies_in_section(p, settings_.section, {false, true})), {true, true},
-             {f, f, {}});
-  SettleCriterion c;
-  c.max_time = settings_.mould_seating_time;
-  c.ratio = settings_.stage_ratio;
-  model_.require_seated_sleeper(c);
-  report_.stages.push_back(runner_.settle(*sim_, "sleeper seating in the mould", c));
-  restore_friction(f);
+  if (begin(BuildStage::mould_seating, [&] {
+        const Particles& p = sim_->particles();
+        const Particles kept = p.subset(bodies_in_section(p, settings_.section, {false, true}));
+        next_stage(kept, model_of(BuildStage::mould_seating), placed_sleeper(kept));
+      })) {
+    SettleCriterion c;
+    c.max_time = settings_.mould_seating_time;
+    c.ratio = settings_.stage_ratio;
+    model_.require_seated_sleeper(c);
+    settle(to_string(BuildStage::mould_seating), c);
+  }
+  restore_friction(BuildStage::mould_friction_restored, settings_.mould_seating_friction);
 }
 
-void SampleBuilder::trim() {
-  // A sleeper already seated (in the mould) stays where it is: no stone is inside its box.
-  const bool seated = sim_->mesh_index(SectionModel::kSleeperName) >= 0;
-  particles_ = sim_->particles().subset(
-      bodies_in_section(sim_->particles(), settings_.section, {true, !seated}));
+MeshBody SampleBuilder::placed_sleeper(const Particles& p) {
+  sleeper_lift_ = sleeper_lift(p, settings_.section);
+  return model_.sleeper_at(sleeper_lift_);
+}
+
+void SampleBuilder::trimmed_model() {
+  // The stones inside the design profile (the slopes cut, the crest levelled, the sleeper's box
+  // cleared), the mould removed. A sleeper already seated in the mould stays where it is: no
+  // stone is inside its box.
+  const int k = sim_->mesh_index(SectionModel::kSleeperName);
+  const Particles& p = sim_->particles();
+  const Particles kept = p.subset(bodies_in_section(p, settings_.section, {true, k < 0}));
+  next_stage(kept, model_of(BuildStage::seating),
+             k >= 0 ? sim_->meshes()[k] : placed_sleeper(kept));
 }
 
 void SampleBuilder::seat_sleeper() {
-  std::optional<MeshBody> seated;
-  if (const int k = sim_->mesh_index(SectionModel::kSleeperName); k >= 0)
-    seated = sim_->meshes()[k];
-  next_stage(particles_, {false, true}, {}, seated);
+  // One criterion for both stages: the seating goes on judging the sleeper's load from where the
+  // tamping left it.
   SettleCriterion c;
   c.max_time = settings_.max_stage_time;
   model_.require_seated_sleeper(c);
-  double& load = sim_->meshes().front().dof[2].value;
-  const double weight = load;
-  if (settings_.tamping_load_factor > 1) {
-    // Pressed into the bed, as tamping and traffic seat a real sleeper, then released.
-    load = settings_.tamping_load_factor * weight;
+  const double weight = model_.sleeper_weight();
+  auto load = [this]() -> double& { return sim_->meshes().front().dof[2].value; };
+  const bool tamped = settings_.tamping_load_factor > 1;
+  if (tamped && begin(BuildStage::tamping, [&] {
+        trimmed_model();
+        // Pressed into the bed, as tamping and traffic seat a real sleeper, then released.
+        load() = settings_.tamping_load_factor * weight;
+      })) {
     c.ratio = settings_.stage_ratio;
-    report_.stages.push_back(runner_.settle(*sim_, "sleeper tamping", c));
-    load = weight;
+    settle(to_string(BuildStage::tamping), c);
   }
-  c.ratio = settings_.equilibrium_ratio;
-  report_.stages.push_back(runner_.settle(*sim_, "sleeper seating", c));
+  if (begin(BuildStage::seating, [&] {
+        if (!tamped) trimmed_model();
+        load() = weight;
+      })) {
+    c.ratio = settings_.equilibrium_ratio;
+    settle(to_string(BuildStage::seating), c);
+  }
 }
 
 }  // namespace trackbed::dem

@@ -15,15 +15,20 @@
 //                              press it in with a tamping load and let it settle under its weight
 //                              (servo) to equilibrium
 //
-// Every stage ends on the mean unbalanced force ratio (settling.h).
+// Every stage ends on the mean unbalanced force ratio (settling.h). A build takes checkpoints at
+// the checks of its stages (checkpoint()) and goes on from one (run(from)) bit for bit as the
+// uninterrupted build, with the same number of threads.
 #pragma once
 
 #include <cstdint>
 #include <functional>
+#include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "dem/engine_state.h"
 #include "dem/grading.h"
 #include "dem/porosity_calibration.h"
 #include "dem/sample.h"
@@ -74,6 +79,33 @@ struct BuildReport {
   double porosity = 0;  // under the sleeper, after deposition
 };
 
+// The stages of a ball build that step the section's model, in their order (a build skips those
+// its settings leave out); a checkpoint names the one it was taken in.
+enum class BuildStage : int {
+  deposition,               // the cloud falls, at the deposition friction
+  settling,                 // and settles
+  friction_restored,        // the ballast's friction back (seated on the profile)
+  mould_seating,            // the sleeper seated in the mould at a reduced friction
+  mould_friction_restored,  // the ballast's friction back, the sleeper on the bed
+  tamping,                  // the trimmed bed under the sleeper pressed in
+  seating,                  // the sleeper seated under its weight: the finished sample
+};
+constexpr int kBuildStages = 7;
+std::string to_string(BuildStage s);
+
+// Where an interrupted ball build stands at a check of one of its stages: what run() needs to go
+// on from there. The stones are drawn again from the seed; the calibration is in the report.
+struct BuildCheckpoint {
+  BuildStage stage = BuildStage::deposition;
+  StagePoint point;
+  std::vector<double> criterion_memory;  // the stage's (SettleCriterion::memory)
+  BuildReport report;                    // the calibration and the stages finished before
+  // How far above its design position the sleeper was placed (its mesh is made again there and
+  // moved to its saved pose); NaN before it is placed.
+  double sleeper_lift = std::numeric_limits<double>::quiet_NaN();
+  EngineState engine;
+};
+
 class SampleBuilder {
  public:
   explicit SampleBuilder(SampleBuildSettings settings);
@@ -81,23 +113,42 @@ class SampleBuilder {
   StageRunner& runner() { return runner_; }
   // The model of the finished sample (after run()), for its outputs.
   const Simulation& simulation() const { return *sim_; }
-  // Builds the ball sample. Throws InputError for invalid settings, std::runtime_error if a
-  // stage blows up.
-  Sample run();
+  // Builds the ball sample; from the checkpoint of an interrupted build of the same settings when
+  // given. Throws InputError for invalid settings or a checkpoint of a stage this build does not
+  // have, std::runtime_error if a stage blows up.
+  Sample run(BuildCheckpoint* from = nullptr);
+  // Whether one of the stages above is running (not the calibration, whose depositions of a
+  // small box are made again on resume).
+  bool in_stage() const { return in_stage_; }
+  // The build's state at a check of its running stage, for runner().at_check.
+  BuildCheckpoint checkpoint(const StagePoint& at) const;
   const BuildReport& report() const { return report_; }
 
  private:
+  // The walls and materials of a stage's model.
+  struct StageModel {
+    StageWalls walls;
+    StageMaterials materials;
+  };
+  StageModel model_of(BuildStage s) const;
   void draw_stones();
   void calibrate();
   void deposit();
-  void restore_friction(double factor);  // from `factor` times the ballast's
+  void restore_friction(BuildStage s, double factor);  // from `factor` times the ballast's
   void seat_in_mould();
-  void trim();
   void seat_sleeper();
+  void trimmed_model();
+  // The sleeper placed on `p` at its design position, raised clear of the stones (sleeper_lift_).
+  MeshBody placed_sleeper(const Particles& p);
+  // Enters stage `s`: `make` sets up its model, or, for a build resumed in it, the checkpoint's
+  // model is restored. False, with nothing done, for a stage finished before the checkpoint.
+  bool begin(BuildStage s, const std::function<void()>& make);
+  void restore();
+  // Settles the stage entered by begin(), from the checkpoint's point for a resumed one.
+  void settle(const std::string& name, const SettleCriterion& c);
   SimulationSettings stage_settings() const;
   double core_porosity(const Particles& p) const;
-  void next_stage(const Particles& particles, const StageWalls& walls,
-                  const StageMaterials& materials,
+  void next_stage(const Particles& particles, const StageModel& m,
                   const std::optional<MeshBody>& sleeper = std::nullopt);
 
   SampleBuildSettings settings_;
@@ -105,8 +156,14 @@ class SampleBuilder {
   StageRunner runner_;
   BuildReport report_;
   std::vector<double> sieve_size_;  // per stone id
-  Particles particles_;
   std::unique_ptr<Simulation> sim_;
+  // The running stage, its criterion (whose memory a checkpoint keeps) and where it started.
+  BuildStage stage_ = BuildStage::deposition;
+  SettleCriterion criterion_;
+  StagePoint start_;
+  bool in_stage_ = false;
+  double sleeper_lift_ = std::numeric_limits<double>::quiet_NaN();
+  BuildCheckpoint* resume_ = nullptr;  // until the build reaches the checkpoint's stage
 };
 
 // The box under the sleeper in which a sample's porosity is measured: the sleeper's footprint

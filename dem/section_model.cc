@@ -97,19 +97,7 @@ Simulation SectionModel::make(Particles particles, const StageWalls& walls,
   }
   if (walls.sleeper) {
     MeshBody body;
-    if (sleeper_body) {
-      body = *sleeper_body;
-    } else {
-      const Vec3 lift(0, 0, sleeper_lift(sim.particles(), s));
-      const TriangleMesh box = make_box_mesh(
-          Vec3(s.sleeper_lower().x(), -0.5 * s.sleeper_width, s.depth_under_sleeper) + lift,
-          Vec3(s.sleeper_upper().x(), 0.5 * s.sleeper_width, s.crest_z()) + lift, true,
-          s.bottom_width());
-      body = MeshBody::from_world_mesh(kSleeperName, box, 1, 1.0, Vec3::Zero());
-      // The box's own inertia distribution, scaled to the sleeper's mass.
-      body.inertia *= s.sleeper_mass / body.mass;
-      body.mass = s.sleeper_mass;
-    }
+    body = sleeper_body ? *sleeper_body : sleeper_at(sleeper_lift(sim.particles(), s));
     body.material = 1;
     body.weight = true;
     for (auto& d : body.dof) d = DofControl{};
@@ -125,6 +113,19 @@ Simulation SectionModel::make(Particles particles, const StageWalls& walls,
     sim.add_mesh_body(std::move(body));
   }
   return sim;
+}
+
+MeshBody SectionModel::sleeper_at(double lift) const {
+  const TrackSection& s = section_;
+  const Vec3 up(0, 0, lift);
+  const TriangleMesh box = make_box_mesh(
+      Vec3(s.sleeper_lower().x(), -0.5 * s.sleeper_width, s.depth_under_sleeper) + up,
+      Vec3(s.sleeper_upper().x(), 0.5 * s.sleeper_width, s.crest_z()) + up, true, s.bottom_width());
+  MeshBody body = MeshBody::from_world_mesh(kSleeperName, box, 1, 1.0, Vec3::Zero());
+  // The box's own inertia distribution, scaled to the sleeper's mass.
+  body.inertia *= s.sleeper_mass / body.mass;
+  body.mass = s.sleeper_mass;
+  return body;
 }
 
 int SectionModel::permanent_walls() const {

@@ -76,8 +76,14 @@ class SectionModel {
   // that the force a growth has pent up under the sleeper does not launch it. Call after
   // require_seated_sleeper, whose per-step recording it keeps.
   void release_sleeper_when_carried(SettleCriterion& c) const;
+  // The sleeper at its design position raised by `lift` (m), as make() places it: its mesh and
+  // mass (the controls are make()'s).
+  MeshBody sleeper_at(double lift) const;
   // Walls every stage has, numbered first: base, crib walls (unless periodic), side walls (a box).
   int permanent_walls() const;
+  // The load of the sleeper's weight, downward (N, negative): what the servo of make()'s sleeper
+  // holds.
+  double sleeper_weight() const { return section_.sleeper_mass * settings_.gravity.z(); }
 
   // The sample of a model's current state: bodies, walls, sleeper and contact springs, with the
   // shapes and sieve sizes of the bodies by id (a body missing from `sieve_size` is refused).

@@ -45,6 +45,48 @@ class BuildSample : public Cli {
   void check_resumed_conversion(const fs::path& base);
   // A case loads the sample with its contact springs.
   void check_case_loading(const fs::path& base);
+  // The ball build of `prm` (the one that built `whole`), stopped (SIGTERM in the deposition,
+  // SIGKILL in the seating in the mould) and resumed, ends as the uninterrupted one.
+  void check_resumed_ball_build(const fs::path& prm, const fs::path& whole);
+
+  // build-sample of `prm` with the signal sent at the build's step `step` (TRACKBED_TEST_SIGNAL).
+  Result run_signalled(const fs::path& prm, long step, int signal) {
+    setenv("TRACKBED_TEST_SIGNAL", (std::to_string(step) + " " + std::to_string(signal)).c_str(),
+           1);
+    const Result r = run("build-sample " + prm.string());
+    unsetenv("TRACKBED_TEST_SIGNAL");
+    return r;
+  }
+  // The build of `prm` into `out` stopped by SIGTERM at its step `step`, with a checkpoint, exit
+  // code 130 and how to go on, then resumed from `where` to the end of the one in `whole`.
+  void stop_and_resume(const fs::path& prm, long step, const fs::path& out, const fs::path& whole,
+                       const std::string& where) {
+    const Result stopped = run_signalled(prm, step, SIGTERM);
+    EXPECT_EQ(stopped.code, 130) << stopped.err;
+    EXPECT_NE(stopped.out.find("trackbed resume " + out.string()), std::string::npos)
+        << stopped.out;
+    ASSERT_TRUE(fs::exists(out / "checkpoint.h5"));
+    EXPECT_FALSE(fs::exists(out / "sample.h5"));
+    const Result resumed = run("resume " + out.string());
+    ASSERT_EQ(resumed.code, 0) << resumed.err;
+    EXPECT_NE(resumed.out.find(where), std::string::npos) << resumed.out;
+    expect_same_sample(out, whole);
+  }
+  // The build in `out` ended as the one in `whole`: the same history, steps, bodies' positions
+  // and velocities and sleeper, and no checkpoint left.
+  void expect_same_sample(const fs::path& out, const fs::path& whole) {
+    EXPECT_TRUE(slurp(out / "history/build.csv") == slurp(whole / "history/build.csv"));
+    EXPECT_EQ(summary_number(out, "steps"), summary_number(whole, "steps"));
+    EXPECT_FALSE(fs::exists(out / "checkpoint.h5"));  // a finished build needs none
+    const Sample a = read_sample((whole / "sample.h5").string());
+    const Sample b = read_sample((out / "sample.h5").string());
+    ASSERT_EQ(a.particles.num_bodies(), b.particles.num_bodies());
+    for (int i = 0; i < a.particles.num_bodies(); ++i) {
+      EXPECT_EQ(a.particles.x[i], b.particles.x[i]) << "body " << i;
+      EXPECT_EQ(a.particles.v[i], b.particles.v[i]) << "body " << i;
+    }
+    EXPECT_EQ(a.meshes.front().x, b.meshes.front().x);
+  }
 };
 
 // One test, as ctest runs every test in its own process: the ball sample is built once for the
@@ -176,27 +218,7 @@ void BuildSample::check_resumed_conversion(const fs::path& base) {
                      "subsection output\n  set folder = " +
                      (dir_ / "resumable").string() + "\n  set plot = false\n" + extra + "end\n");
   };
-  auto run_signalled = [&](const fs::path& prm, long step, int signal) {
-    setenv("TRACKBED_TEST_SIGNAL", (std::to_string(step) + " " + std::to_string(signal)).c_str(),
-           1);
-    const Result r = run("build-sample " + prm.string());
-    unsetenv("TRACKBED_TEST_SIGNAL");
-    return r;
-  };
   const fs::path out = dir_ / "resumable", whole = dir_ / "whole";
-  auto expect_same_sample = [&] {
-    EXPECT_TRUE(slurp(out / "history/build.csv") == slurp(whole / "history/build.csv"));
-    EXPECT_EQ(summary_number(out, "steps"), summary_number(whole, "steps"));
-    EXPECT_FALSE(fs::exists(out / "checkpoint.h5"));  // a finished build needs none
-    const Sample a = read_sample((whole / "sample.h5").string());
-    const Sample b = read_sample((out / "sample.h5").string());
-    ASSERT_EQ(a.particles.num_bodies(), b.particles.num_bodies());
-    for (int i = 0; i < a.particles.num_bodies(); ++i) {
-      EXPECT_EQ(a.particles.x[i], b.particles.x[i]) << "body " << i;
-      EXPECT_EQ(a.particles.v[i], b.particles.v[i]) << "body " << i;
-    }
-    EXPECT_EQ(a.meshes.front().x, b.meshes.front().x);
-  };
   fs::path prm = sample_file("");
   const Result r = run("build-sample " + prm.string());
   ASSERT_EQ(r.code, 0) << r.err;
@@ -204,16 +226,8 @@ void BuildSample::check_resumed_conversion(const fs::path& base) {
   EXPECT_NE(slurp(out / "summary.txt").find("equilibrium"), std::string::npos);
   fs::rename(out, whole);
 
-  // SIGTERM in the growth: a checkpoint, exit code 130 and how to go on.
-  const Result stopped = run_signalled(prm, 3000, SIGTERM);
-  EXPECT_EQ(stopped.code, 130) << stopped.err;
-  EXPECT_NE(stopped.out.find("trackbed resume " + out.string()), std::string::npos) << stopped.out;
-  ASSERT_TRUE(fs::exists(out / "checkpoint.h5"));
-  EXPECT_FALSE(fs::exists(out / "sample.h5"));
-  const Result resumed = run("resume " + out.string());
-  ASSERT_EQ(resumed.code, 0) << resumed.err;
-  EXPECT_NE(resumed.out.find("clump growth stage at step 3000"), std::string::npos) << resumed.out;
-  expect_same_sample();
+  // SIGTERM in the growth.
+  stop_and_resume(prm, 3000, out, whole, "clump growth stage at step 3000");
   expect_error(run("resume " + out.string()), {"the sample build finished"});
   fs::remove_all(out);
 
@@ -241,13 +255,13 @@ void BuildSample::check_resumed_conversion(const fs::path& base) {
   const Result revived = run("resume " + out.string());
   ASSERT_EQ(revived.code, 0) << revived.err;
   EXPECT_NE(revived.out.find("equilibrium stage at step 22000"), std::string::npos) << revived.out;
-  expect_same_sample();
+  expect_same_sample(out, whole);
   fs::remove_all(out);
   ASSERT_EQ(run_signalled(prm, 29251, SIGTERM).code, 130);
   const Result again = run("resume " + out.string());
   ASSERT_EQ(again.code, 0) << again.err;
   EXPECT_NE(again.out.find("equilibrium stage at step 24000"), std::string::npos) << again.out;
-  expect_same_sample();
+  expect_same_sample(out, whole);
 
   // A step that changes as the stages go (the full-size all-clump sample's settings): the growth
   // at the critical step of the model as it stands, the settling density scaled to three times
@@ -271,7 +285,7 @@ void BuildSample::check_resumed_conversion(const fs::path& base) {
     ASSERT_EQ(run_signalled(prm, step, SIGTERM).code, 130) << step;
     const Result resumed_here = run("resume " + out.string());
     ASSERT_EQ(resumed_here.code, 0) << resumed_here.err;
-    expect_same_sample();
+    expect_same_sample(out, whole);
     fs::remove_all(out);
   }
 }
@@ -339,6 +353,51 @@ TEST_F(BuildSample, SleeperSeatedInTheMouldStaysWhereItWasSeated) {
     EXPECT_LE(std::abs(x.x()), section.half_base_width() - section.slope * x.z() + 0.02)
         << x.transpose();
   }
+  // Its every stage can be interrupted and resumed.
+  const fs::path whole = dir_ / "mould-whole";
+  fs::rename(out, whole);
+  check_resumed_ball_build(prm, whole);
+}
+
+void BuildSample::check_resumed_ball_build(const fs::path& prm, const fs::path& whole) {
+  // Where each stage starts among the build's steps, from the uninterrupted build's summary.
+  const std::string json = slurp(whole / "summary.json");
+  const std::regex stage("\"name\": \"([^\"]+)\", \"steps\": (\\d+)");
+  std::map<std::string, std::pair<long, long>> steps;  // first step, steps
+  long total = 0;
+  for (auto it = std::sregex_iterator(json.begin(), json.end(), stage);
+       it != std::sregex_iterator(); ++it) {
+    steps[(*it)[1]] = {total, std::stol((*it)[2])};
+    total += std::stol((*it)[2]);
+  }
+  const auto deposition = steps["deposition"], mould = steps["sleeper seating in the mould"];
+  ASSERT_GT(deposition.second, 1500);
+  ASSERT_GT(mould.second, 2000);
+  const fs::path out = dir_ / "mould";  // the folder of `prm`
+
+  // SIGTERM in the deposition, at its 1,000th step.
+  stop_and_resume(prm, deposition.first + 1000, out, whole,
+                  "ball build's deposition stage at step 1000");
+  fs::remove_all(out);
+
+  // Killed (SIGKILL) halfway through the seating in the mould, a checkpoint at every check
+  // (500 steps): the last one, a check before, holds the sleeper's load and motion since the
+  // check before it, which the stage's criterion judges.
+  const fs::path every =
+      write("mould-checkpoints.prm", slurp(prm) +
+                                         "subsection output\n  set checkpoint interval = "
+                                         "0.001\nend\n");
+  const long at = mould.second / 1000 * 500;
+  const Result killed = run_signalled(every, mould.first + at, SIGKILL);
+  EXPECT_TRUE(killed.code == -1 || killed.code == 128 + SIGKILL) << killed.code;
+  ASSERT_TRUE(fs::exists(out / "checkpoint.h5"));
+  const Result revived = run("resume " + out.string());
+  ASSERT_EQ(revived.code, 0) << revived.err;
+  EXPECT_NE(revived.out.find("ball build's sleeper seating in the mould stage at step " +
+                             std::to_string(at - 500)),
+            std::string::npos)
+      << revived.out;
+  expect_same_sample(out, whole);
 }
 
 TEST_F(BuildSample, ShippedScaledDownSectionMatchesItsReference) {
