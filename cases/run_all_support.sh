@@ -1,22 +1,18 @@
 # Shared by cases/*/run-all (sourced, not run): builds missing samples and runs unfinished models,
 # resuming either from its checkpoint when an earlier call was interrupted (trackbed resume).
 # The sourcing script sets bin (the trackbed executable) and options (its extra arguments, e.g.
-# --threads 2) before calling sample and run_model.
+# --threads 2) before sourcing it.
 
-resume_options() {  # trackbed resume takes --threads alone, of the options given to run-all
-  local i
-  for ((i = 0; i < ${#options[@]}; i++)); do
-    [ "${options[i]}" = --threads ] && echo "--threads ${options[i + 1]:-}"
-  done
-  return 0
-}
+resume_options=()  # trackbed resume takes --threads alone, of the options given to run-all
+for ((i = 0; i < ${#options[@]}; i++)); do
+  [ "${options[i]}" = --threads ] && resume_options=(--threads "${options[i + 1]:-}")
+done
 resume_or() {  # resumes the run or sample build in folder $1 if it holds a checkpoint, else runs the rest
   local folder=$1
   shift
   if [ -f "$folder/checkpoint.h5" ]; then
     echo "run-all: resuming $folder from its checkpoint"
-    # shellcheck disable=SC2046  # the options are words without spaces: --threads N
-    "$bin" resume "$folder" $(resume_options)
+    "$bin" resume "$folder" ${resume_options[@]+"${resume_options[@]}"}
   else
     "$@"
   fi
