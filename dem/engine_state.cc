@@ -139,14 +139,17 @@ void Simulation::restore_engine_state(EngineState s) {
     throw InputError(
         "the saved state is inconsistent (its contact lists do not fit its bodies and walls); "
         "valid: a state written by trackbed");
-  // Rolling springs exist where some pair of materials has rolling resistance: a state saved
-  // under other materials would leave them misaligned.
-  if (materials_.any_rolling() != (s.pair_roll.size() == s.list_partners.size()) &&
-      !s.list_partners.empty())
-    throw InputError("the saved state has " + std::string(s.pair_roll.empty() ? "no " : "") +
-                     "rolling springs and this model's materials have " +
-                     std::string(materials_.any_rolling() ? "" : "no ") +
-                     "rolling resistance; valid: the materials of the saved model");
+  // Rolling springs exist where a contact the elements can make has rolling resistance. A state
+  // saved with springs this model does not need (a build before rolling_in_use, or other
+  // materials) drops them: they hold no moment. One without springs that are needed cannot go on.
+  const bool rolling = rolling_in_use(s.particles);
+  if (!rolling) {
+    s.pair_roll.clear();
+  } else if (s.pair_roll.size() != s.list_partners.size()) {
+    throw InputError(
+        "the saved state has no rolling springs and contacts of this model have rolling "
+        "resistance; valid: the materials of the saved model");
+  }
 
   p_ = std::move(s.particles);
   time_ = s.time;
@@ -179,6 +182,7 @@ void Simulation::restore_engine_state(EngineState s) {
   list_.partners = std::move(s.list_partners);
   pair_history_->shear = std::move(s.pair_shear);
   pair_history_->roll = std::move(s.pair_roll);
+  rolling_ = rolling;
   pair_history_->fn = std::move(s.pair_fn);
   plane_history_.assign(nwalls, WallHistory{});
   for (std::size_t w = 0; w < nwalls; ++w) {

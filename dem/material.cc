@@ -96,9 +96,6 @@ int MaterialTable::index_of(const std::string& name) const {
   throw InputError("unknown material '" + name + "'; defined materials: " + known);
 }
 
-bool MaterialTable::any_rolling() const {
-  return std::any_of(pairs_.begin(), pairs_.end(), [](auto& p) { return p.has_rolling(); });
-}
 void MaterialTable::validate() const {
   for (int a = 0; a < size(); ++a)
     for (int b = a; b < size(); ++b) {

@@ -45,7 +45,6 @@ class MaterialTable {
   const Material& operator[](int i) const { return materials_[i]; }
   int size() const { return static_cast<int>(materials_.size()); }
   const ContactProperties& pair(int a, int b) const { return pairs_[a * size() + b]; }
-  bool any_rolling() const;
   // Throws InputError for a pair whose normal dashpot got both forms (a material with a ratio
   // meeting one with a rate, and no explicit pair value).
   void validate() const;

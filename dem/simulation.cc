@@ -124,7 +124,8 @@ void Simulation::particles_changed() {
   for (int e = 0; e < p_.num_elements(); ++e)
     growth = std::max(growth, p_.radius[e] - radius_at_build_[e]);
   growth_since_build_ = growth;
-  if (needs_rebuild()) rebuild();
+  // A conversion can change the materials of elements, and so whether rolling springs are needed.
+  if (needs_rebuild() || rolling_in_use(p_) != rolling_) rebuild();
 }
 
 void Simulation::set_materials(MaterialTable materials) {
@@ -144,7 +145,8 @@ void Simulation::rebuild() {
   list_.build(p_, skin, parallel_);
   const int npairs = list_.num_pairs();
   PairHistory& h = *pair_history_;
-  const bool rolling = materials_.any_rolling();
+  rolling_ = rolling_in_use(p_);
+  const bool rolling = rolling_;
   h.shear.assign(npairs, Vec3::Zero());
   h.roll.assign(rolling ? npairs : 0, Vec3::Zero());
   h.fn.assign(npairs, 0.0);
@@ -248,6 +250,23 @@ bool Simulation::needs_rebuild() const {
     const double d = (b.x - plane_point_at_build_[planes_.size() + m]).norm() + angle * b.reach();
     if (d > half) return true;
   }
+  return false;
+}
+
+bool Simulation::rolling_in_use(const Particles& p) const {
+  // The materials the elements carry, then every pair they can form with each other or a wall.
+  const int nmat = materials_.size();
+  std::vector<char> carried(nmat, 0);
+  for (int m : p.material) carried[m] = 1;
+  std::vector<int> partners;
+  for (int m = 0; m < nmat; ++m)
+    if (carried[m]) partners.push_back(m);
+  for (const auto& w : planes_) partners.push_back(w.material);
+  for (const auto& m : meshes_) partners.push_back(m.material);
+  for (int a = 0; a < nmat; ++a)
+    if (carried[a])
+      for (int b : partners)
+        if (materials_.pair(a, b).has_rolling()) return true;
   return false;
 }
 
@@ -565,9 +584,8 @@ void Simulation::compute_forces() {
     }
   }
 
-  const bool rolling = materials_.any_rolling();
   const bool energy = settings_.track_energy;
-  if (rolling) {
+  if (rolling_) {
     energy ? pair_forces<true, true>() : pair_forces<true, false>();
     energy ? plane_forces<true, true>() : plane_forces<true, false>();
     energy ? mesh_forces<true, true>() : mesh_forces<true, false>();

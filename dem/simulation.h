@@ -176,6 +176,9 @@ class Simulation {
   double closing_wall_work() const;
   bool needs_rebuild() const;
   void rebuild();
+  // Whether a contact these particles can make (element-element, element-wall) has rolling
+  // resistance: only then are rolling springs kept and the rolling kernels run.
+  bool rolling_in_use(const Particles& p) const;
   void check_initial_overlaps() const;
   // The contact points of candidate `c` of mesh `m`'s history with that mesh at the current
   // positions, in the order mesh_forces stores them.
@@ -214,6 +217,7 @@ class Simulation {
   int builds_ = 0;
   bool ready_ = false;
   bool parallel_ = true;  // OpenMP team for this model (see parallel_threshold)
+  bool rolling_ = false;  // rolling springs kept (rolling_in_use at the last list build)
   EnergyBudget tally_;    // dissipation and work terms accumulated so far
   // Each wall's (planes, then meshes) displacement and rotation of the last step, whose work
   // move_walls completes with the next step's forces.
