@@ -40,6 +40,14 @@ RUNS = [  # folder, what differs from the shipped scaled-down all-clump push
     ("dense-v5", "clumps grown at friction x 0.3"),
 ]
 
+MODELS = [  # the five models of the scaled-down section; folder prefix ("": the all-clump runs)
+    ("all-clump", ""),
+    ("half by height", "hbh"),
+    ("optimised", "opt"),
+    ("all-ball-rolling", "ballroll"),
+    ("all-ball", "ball"),
+]
+
 
 def read_csv(path):
     with open(path) as f:
@@ -86,6 +94,25 @@ def main():
         print(f"| `{name}` | {what} | {f['velocity']:.1f} mm/s | {f['peak']:.1f} N | "
               f"{f['mean']:.1f} N | {f['walls']:.1f} N | {f['balance']:.2f} | "
               f"{f['sink2']:.2f} / {f['sink5']:.2f} mm |")
+
+    print()
+    print("| model | clumps' rolling friction | velocity | peak (/ all-clump) | mean R, 1-5 mm "
+          "(/ all-clump) | reaching the walls, 1-5 mm (/ all-clump) | balance error |")
+    print("|---|---|---|---|---|---|---|")
+    for velocity in ("v10", "v5"):
+        for rolling in ("", "roll-"):
+            reference = figures(os.path.join(here, rolling + velocity))
+            for model, folder in MODELS:
+                name = f"{folder}-{rolling}{velocity}" if folder else rolling + velocity
+                if not os.path.exists(os.path.join(here, name)):
+                    name = f"{folder}-{velocity}"  # the ball beds have no clumps
+                if not os.path.exists(os.path.join(here, name)):
+                    continue
+                f = figures(os.path.join(here, name))
+                print(f"| {model} | {'0.3' if rolling else '0 (Table 2)'} | {f['velocity']:.0f} mm/s | "
+                      + " | ".join(f"{f[k]:.1f} N ({f[k] / reference[k]:.2f})"
+                                   for k in ("peak", "mean", "walls"))
+                      + f" | {f['balance']:.2f} |")
 
     fig, axes = pp.plt.subplots(1, 2, figsize=(11, 4.5), sharey=True)
     for name, label, style in [("v10", "10 mm/s", "k-"), ("v5", "5 mm/s", "k--"),
