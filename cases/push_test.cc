@@ -200,13 +200,14 @@ std::pair<std::size_t, std::size_t> PushTest::window(std::size_t k) const {
   return {first, last};
 }
 
-std::vector<double> PushTest::smoothed_resistance() const {
+template <class Value>
+std::vector<double> PushTest::smoothed(Value value) const {
   // Running mean over a window of `smoothing` in displacement, centred, shortened at the ends.
   std::vector<double> out(rows_.size());
   for (std::size_t k = 0; k < rows_.size(); ++k) {
     const auto [first, last] = window(k);
     double sum = 0;
-    for (std::size_t j = first; j < last; ++j) sum += rows_[j].resistance;
+    for (std::size_t j = first; j < last; ++j) sum += value(rows_[j]);
     out[k] = sum / double(last - first);
   }
   return out;
@@ -215,7 +216,12 @@ std::vector<double> PushTest::smoothed_resistance() const {
 std::vector<SummaryItem> PushTest::summary() const {
   std::vector<SummaryItem> items;
   if (rows_.empty()) return items;
-  const std::vector<double> smooth = smoothed_resistance();
+  const std::vector<double> smooth = smoothed([](const Row& r) { return r.resistance; });
+  // What of the resistance reaches the walls (the base's friction, for a sleeper): the rest is
+  // taken by local damping and the inertia of the stones that move (docs/validation.md, "What
+  // makes the clump bed's resistance depend on the velocity").
+  const std::vector<double> to_walls =
+      smoothed([](const Row& r) { return r.resistance + r.unbalance; });
   const std::size_t peak = std::max_element(smooth.begin(), smooth.end()) - smooth.begin();
   const auto raw = std::max_element(rows_.begin(), rows_.end(), [](const Row& a, const Row& b) {
     return a.resistance < b.resistance;
@@ -275,6 +281,11 @@ std::vector<SummaryItem> PushTest::summary() const {
        weight_ > 0 && !vertical ? load / weight_ : NAN},
       {"horizontal_balance_error", "horizontal force balance error (push mean)", "",
        resistance != 0 && !vertical ? std::abs(unbalance) / resistance : NAN},
+      {"walls_" + kind + "_force_at_peak_n", kind + " force reaching the walls at the peak", "N",
+       vertical ? NAN : to_walls[peak]},
+      {"walls_" + kind + "_force_at_" + mm + "mm_n",
+       kind + " force reaching the walls at " + mm + " mm", "N",
+       vertical ? NAN : interpolated_at(to_walls, prm_.report_at)},
   };
   for (std::size_t k = 0; k < parts_.size(); ++k)
     items.push_back({"share_" + parts_[k], "share of " + parts_[k] + " at the peak", "",

@@ -106,9 +106,10 @@ class PushTest {
   // The rows [first, last) about row k that stay within prm_.smoothing / 2 of its displacement,
   // contiguous in time (a path passes a displacement more than once).
   std::pair<std::size_t, std::size_t> window(std::size_t k) const;
-  // The resistance averaged over that window: the curve a reading at one instant would give is
-  // rattled by single stones slipping.
-  std::vector<double> smoothed_resistance() const;
+  // value(row) averaged over that window, for every row: the curve a reading at one instant would
+  // give is rattled by single stones slipping.
+  template <class Value>
+  std::vector<double> smoothed(Value value) const;
   // A curve over the rows interpolated at displacement d (NaN if the push did not get there).
   double interpolated_at(const std::vector<double>& curve, double d) const;
 
