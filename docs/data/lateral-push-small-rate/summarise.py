@@ -29,6 +29,8 @@ RUNS = [  # folder, what differs from the shipped scaled-down all-clump push
     ("D130-v5", "clumps D130/R0.4"),
     ("roll-v10", "rolling friction 0.3 at every clump contact"),
     ("roll-v5", "rolling friction 0.3 at every clump contact"),
+    ("roll0.03-v10", "rolling friction 0.03 at every clump contact"),
+    ("roll0.1-v10", "rolling friction 0.1 at every clump contact"),
     ("rollbed-v10", "rolling friction 0.3 between stones and on the base, none at the sleeper"),
     ("rollbed-v5", "rolling friction 0.3 between stones and on the base, none at the sleeper"),
     ("rollsleeper-v10", "rolling friction 0.3 at the sleeper only"),
