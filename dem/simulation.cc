@@ -124,8 +124,7 @@ void Simulation::particles_changed() {
   for (int e = 0; e < p_.num_elements(); ++e)
     growth = std::max(growth, p_.radius[e] - radius_at_build_[e]);
   growth_since_build_ = growth;
-  // A conversion can change the materials of elements, and so whether rolling springs are needed.
-  if (needs_rebuild() || rolling_in_use(p_) != rolling_) rebuild();
+  if (needs_rebuild()) rebuild();
 }
 
 void Simulation::set_materials(MaterialTable materials) {
@@ -146,9 +145,8 @@ void Simulation::rebuild() {
   const int npairs = list_.num_pairs();
   PairHistory& h = *pair_history_;
   rolling_ = rolling_in_use(p_);
-  const bool rolling = rolling_;
   h.shear.assign(npairs, Vec3::Zero());
-  h.roll.assign(rolling ? npairs : 0, Vec3::Zero());
+  h.roll.assign(rolling_ ? npairs : 0, Vec3::Zero());
   h.fn.assign(npairs, 0.0);
   if (!old_list.offsets.empty()) {
     const int n = p_.num_elements();
@@ -164,7 +162,7 @@ void Simulation::rebuild() {
           ++b;
         } else {
           h.shear[b] = old.shear[a];
-          if (rolling && !old.roll.empty()) h.roll[b] = old.roll[a];
+          if (rolling_ && !old.roll.empty()) h.roll[b] = old.roll[a];
           h.fn[b] = old.fn[a];
           ++a, ++b;
         }
