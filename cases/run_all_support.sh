@@ -1,7 +1,27 @@
-# Shared by cases/*/run-all (sourced, not run): builds missing samples and runs unfinished models,
-# resuming either from its checkpoint when an earlier call was interrupted (trackbed resume).
-# The sourcing script sets bin (the trackbed executable) and options (its extra arguments, e.g.
-# --threads 2) before sourcing it.
+# Shared by cases/*/run-all (sourced, not run, from the repository root):
+#   source cases/run_all_support.sh STUDY SAMPLES "$@"
+# reads the size from the run-all's first argument unless it is an option (full: cases/STUDY,
+# samples cases/samples/SAMPLES*.prm, results/STUDY; small: cases/STUDY/small,
+# small-SAMPLES*, results/STUDY/small) and sets cases, samples and results; the rest of the
+# arguments go to trackbed run and build-sample (options, e.g. --threads 2). Its functions build
+# missing samples and run unfinished models, resuming either from its checkpoint when an earlier
+# call was interrupted (trackbed resume).
+study=$1
+stem=$2
+shift 2
+size=full
+if [ $# -gt 0 ] && [ "${1#-}" = "$1" ]; then
+  size=$1
+  shift
+fi
+case "$size" in
+  full) cases=cases/$study; samples=$stem; results=results/$study ;;
+  small) cases=cases/$study/small; samples=small-$stem; results=results/$study/small ;;
+  *) echo "run-all: unknown size '$size'; valid: full, small" >&2; exit 2 ;;
+esac
+bin=build/cases/trackbed
+[ -x "$bin" ] || scripts/build
+options=("$@")  # for trackbed run and build-sample, e.g. --threads 2
 
 resume_options=()  # trackbed resume takes --threads alone, of the options given to run-all
 for ((i = 0; i < ${#options[@]}; i++)); do
