@@ -56,6 +56,25 @@ std::unique_ptr<Simulation> model(int balls, double stone_rolling = 0.3) {
   return sim;
 }
 
+// Steps `a` and `b` on together and expects them to stay bit-identical.
+void expect_same_steps(Simulation& a, Simulation& b, int steps) {
+  EXPECT_EQ(b.step_count(), a.step_count());
+  for (int i = 0; i < steps; ++i) {
+    a.step();
+    b.step();
+  }
+  const Particles &pa = a.particles(), &pb = b.particles();
+  for (int i = 0; i < pa.num_bodies(); ++i) {
+    ASSERT_EQ(pa.x[i], pb.x[i]) << "body " << i;
+    ASSERT_EQ(pa.w[i], pb.w[i]) << "body " << i;
+  }
+  EXPECT_EQ(a.meshes()[0].x, b.meshes()[0].x);
+  EXPECT_EQ(a.meshes()[0].contact_force, b.meshes()[0].contact_force);
+  EXPECT_EQ(a.num_contacts(), b.num_contacts());
+  EXPECT_EQ(a.energy().total(), b.energy().total());
+  EXPECT_EQ(a.num_neighbor_builds(), b.num_neighbor_builds());
+}
+
 TEST(EngineState, RestoredModelStepsOnBitForBit) {
   auto a = model(120);
   a->setup();
@@ -74,21 +93,7 @@ TEST(EngineState, RestoredModelStepsOnBitForBit) {
     b->restore_engine_state(read_engine_state(f, file.string()));
   }
   fs::remove(file);
-  EXPECT_EQ(b->step_count(), a->step_count());
-  for (int i = 0; i < 3000; ++i) {
-    a->step();
-    b->step();
-  }
-  const Particles &pa = a->particles(), &pb = b->particles();
-  for (int i = 0; i < pa.num_bodies(); ++i) {
-    ASSERT_EQ(pa.x[i], pb.x[i]) << "body " << i;
-    ASSERT_EQ(pa.w[i], pb.w[i]) << "body " << i;
-  }
-  EXPECT_EQ(a->meshes()[0].x, b->meshes()[0].x);
-  EXPECT_EQ(a->meshes()[0].contact_force, b->meshes()[0].contact_force);
-  EXPECT_EQ(a->num_contacts(), b->num_contacts());
-  EXPECT_EQ(a->energy().total(), b->energy().total());
-  EXPECT_EQ(a->num_neighbor_builds(), b->num_neighbor_builds());
+  expect_same_steps(*a, *b, 3000);
 }
 
 TEST(EngineState, StateOfAnotherModelIsRefused) {
@@ -133,13 +138,7 @@ TEST(EngineState, RollingSpringsOnlyWhereAContactRolls) {
   auto b = model(120, 0.0);
   b->restore_engine_state(saved);
   EXPECT_TRUE(b->engine_state().pair_roll.empty());
-  for (int i = 0; i < 2000; ++i) {
-    a->step();
-    b->step();
-  }
-  for (int i = 0; i < a->particles().num_bodies(); ++i)
-    ASSERT_EQ(a->particles().x[i], b->particles().x[i]) << "body " << i;
-  EXPECT_EQ(a->meshes()[0].contact_force, b->meshes()[0].contact_force);
+  expect_same_steps(*a, *b, 2000);
 
   saved.pair_roll.clear();
   auto c = model(120);
