@@ -117,7 +117,7 @@ TEST_F(LateralPush, FreeHold) {
 // margin beyond the scatter between realisations of its samples (the reference's peak moved 11 %
 // between two, docs/validation.md#scaled-down-variant). Measured with the clumps' rolling
 // friction (2026-12-05), as ratios to the reference: balls with rolling resistance 1.27 (the paper
-// 1.33), the optimised model 0.87 (0.93), balls without rolling resistance 0.30 (0.31); both
+// 1.33), the optimised model 0.87 (0.93), balls without rolling resistance 0.31 (0.31); both
 // multi-layer models above the balls without. And the costs (sphere-steps: deterministic, unlike
 // wall time): the optimised model cheaper than half by height, cheaper than the reference. Not
 // asserted: half by height below the reference (1.10 here, its force rising to a late peak at
