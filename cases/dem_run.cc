@@ -396,6 +396,7 @@ void DemRun::start_fresh() {
   find_tracked_bodies();
   make_push_test();
   open_outputs();
+  remove_outputs_after(-1);  // an earlier run's frames and snapshots in this folder
 
   const auto& p = sim_->particles();
   std::cout << "trackbed: " << p.num_bodies() << " bodies (" << p.num_clumps() << " clumps), "
@@ -445,7 +446,8 @@ void DemRun::start_from(RunCheckpoint& c) {
 
 void DemRun::remove_outputs_after(long step) {
   // An interrupted run wrote a last frame and snapshot after its checkpoint; the resumed run
-  // writes its own. Files of frames from frame_ on and snapshots after `step` go.
+  // writes its own. Files of frames from frame_ on and snapshots after `step` go. A fresh run
+  // (step -1, frame_ 0) clears them all: a pilot zone reads every snapshot of a folder.
   for (const auto& entry : fs::directory_iterator(fs::path(out_) / "vtu")) {
     const std::string name = entry.path().filename().string();
     const std::size_t dash = name.rfind('-');

@@ -255,10 +255,17 @@ TEST_F(Resume, InterruptedOrKilledRunEndsAsTheUninterruptedOne) {
 
 // With snapshots on, a push test writes none in the hold, one where the push starts (the bed at
 // rest: a pilot zone's reference, docs/zones.md#pilot-zones), one every interval after it and one
-// at the end; a resumed run keeps that schedule.
+// at the end; a resumed run keeps that schedule. A fresh run first clears what an earlier run left
+// in its folder's snapshots and frames.
 TEST_F(Resume, PushSnapshotsStartWithThePush) {
   const fs::path f =
       write("case.prm", pushing_case("subsection output\n  set snapshot interval = 0.03\nend\n"));
+  const fs::path stale_snapshot = dir_ / "out/snapshots/state-000000001.h5";
+  const fs::path stale_frame = dir_ / "out/vtu/particles-000099.vtu";
+  fs::create_directories(dir_ / "out/snapshots");
+  fs::create_directories(dir_ / "out/vtu");
+  std::ofstream(stale_snapshot) << "an earlier run's";
+  std::ofstream(stale_frame) << "an earlier run's";
   auto snapshot_steps = [&](const fs::path& out) {
     std::vector<long> steps;
     for (const auto& e : fs::directory_iterator(out / "snapshots"))
@@ -267,6 +274,8 @@ TEST_F(Resume, PushSnapshotsStartWithThePush) {
     return steps;
   };
   ASSERT_EQ(run("run " + f.string() + " --threads 2").code, 0);
+  EXPECT_FALSE(fs::exists(stale_snapshot));
+  EXPECT_FALSE(fs::exists(stale_frame));
   const double dt = summary_number(dir_ / "out", "time_step_s");
   const long start = std::lround(summary_number(dir_ / "out", "hold_time_s") / dt);
   const long end = std::lround(summary_number(dir_ / "out", "steps"));
