@@ -74,7 +74,8 @@ std::pair<SphereUnion, PilotSummary> select_moved_bodies(const std::vector<std::
   if (files.size() < 2)
     throw InputError(std::to_string(files.size()) +
                      " snapshot(s) found; valid: at least two (the first, in step order, is the "
-                     "reference)");
+                     "reference; a push test writes one where the push starts when its "
+                     "output/snapshot interval is above 0)");
   std::vector<SnapshotClock> clocks;
   for (const auto& f : files) clocks.push_back(read_snapshot_clock(f));
   std::vector<std::size_t> order(files.size());

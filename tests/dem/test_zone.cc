@@ -459,6 +459,7 @@ TEST(PilotZone, SnapshotsAreTakenInStepOrderNotNameOrder) {
   // A pattern that matches one file leaves no displacement to measure.
   const std::string one = parse_error("pilot(" + run.string() + "/snapshots/b*, 0.004, 0, 0)");
   EXPECT_NE(one.find("pilot: 1 snapshot(s) found; valid: at least two"), std::string::npos) << one;
+  EXPECT_NE(one.find("output/snapshot interval"), std::string::npos) << one;
   fs::remove_all(run);
 }
 
