@@ -397,6 +397,8 @@ void DemRun::start_fresh() {
   make_push_test();
   open_outputs();
   remove_outputs_after(-1);  // an earlier run's frames and snapshots in this folder
+  // and its checkpoint: were this run stopped before its first, resume must not go back to it.
+  fs::remove(fs::path(out_) / kCheckpointFile);
 
   const auto& p = sim_->particles();
   std::cout << "trackbed: " << p.num_bodies() << " bodies (" << p.num_clumps() << " clumps), "

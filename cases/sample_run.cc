@@ -204,6 +204,9 @@ int SampleRun::build(SampleCheckpoint* from) {
   if (prm_.threads > 0) omp_set_num_threads(prm_.threads);
   out_ = prm_.output_folder;
   fs::create_directories(fs::path(out_) / "history");
+  // A fresh build drops an earlier build's checkpoint: were it stopped before its first, resume
+  // must not go back to the earlier one.
+  if (!from) fs::remove(fs::path(out_) / kCheckpointFile);
   dem::BuildCheckpoint* in_ball_build = from && from->in_ball_build ? &from->ball_build : nullptr;
   dem::ConversionCheckpoint* in_conversion =
       from && !from->in_ball_build ? &from->conversion : nullptr;

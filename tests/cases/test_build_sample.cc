@@ -230,6 +230,17 @@ void BuildSample::check_resumed_conversion(const fs::path& base) {
   stop_and_resume(prm, 3000, out, whole, "clump growth stage at step 3000");
   expect_error(run("resume " + out.string()), {"the sample build finished"});
   fs::remove_all(out);
+  // A fresh build in the folder of an interrupted one drops that one's checkpoint: killed before
+  // its own first (every 600 s of wall time by default), it leaves nothing to resume.
+  ASSERT_EQ(run_signalled(prm, 3000, SIGTERM).code, 130);
+  ASSERT_TRUE(fs::exists(out / "checkpoint.h5"));
+  const Result fresh = run_signalled(prm, 1000, SIGKILL);
+  EXPECT_TRUE(fresh.code == -1 || fresh.code == 128 + SIGKILL) << fresh.code;
+  EXPECT_FALSE(fs::exists(out / "checkpoint.h5"));
+  const Result nothing = run("resume " + out.string());
+  EXPECT_EQ(nothing.code, 2);
+  EXPECT_NE(nothing.err.find("checkpoint.h5: no such file"), std::string::npos) << nothing.err;
+  fs::remove_all(out);
 
   // In the equilibrium (it starts at step 5,251), a checkpoint every millisecond, so one at every
   // check (500 steps): killed (SIGKILL) at the check after step 27,251 (the stage's 22,000),

@@ -297,6 +297,22 @@ TEST_F(Resume, PushSnapshotsStartWithThePush) {
   EXPECT_EQ(resumed, whole);
 }
 
+// A fresh run in the folder of an interrupted one drops that one's checkpoint: killed before its
+// own first (every 600 s of wall time by default), it leaves nothing to resume, not the earlier
+// run's state under the new run's outputs.
+TEST_F(Resume, FreshRunDropsAnEarlierRunsCheckpoint) {
+  const fs::path f = write("case.prm", pushing_case());
+  ASSERT_EQ(run_signalled(f, 20000, SIGTERM).code, 130);
+  ASSERT_TRUE(fs::exists(dir_ / "out/checkpoint.h5"));
+  const Result killed = run_signalled(f, 10000, SIGKILL);
+  EXPECT_TRUE(killed.code == -1 || killed.code == 128 + SIGKILL) << killed.code;
+  EXPECT_FALSE(fs::exists(dir_ / "out/checkpoint.h5"));
+  // (expect_error would also look for the histories' .part files, which a killed run leaves.)
+  const Result resumed = run("resume " + (dir_ / "out").string());
+  EXPECT_EQ(resumed.code, 2);
+  EXPECT_NE(resumed.err.find("checkpoint.h5: no such file"), std::string::npos) << resumed.err;
+}
+
 TEST_F(Resume, WhatCannotBeResumedIsSaidInOneLine) {
   const fs::path f = write("case.prm", pushing_case());
   expect_error(run("resume " + (dir_ / "nothing").string()), {"checkpoint.h5", "no such file"});
