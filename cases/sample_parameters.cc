@@ -97,6 +97,10 @@ void declare(ParameterHandler& prm) {
   prm.declare_entry("mould seating time", default_text(b.mould_seating_time), Double(1e-6, 1e3),
                     "s simulated at most of the seating in the mould: at a low friction the bed "
                     "creeps under the sleeper, and the stage ends here unconverged");
+  prm.declare_entry("mould seating sleeper", b.mould_sleeper_free ? "free" : "servo",
+                    Selection("free|servo"),
+                    "In the mould the sleeper is free under its weight, or held by its seating "
+                    "servo (slow: it bears a fraction of its weight there)");
   prm.declare_entry("stage ratio", default_text(b.stage_ratio), Double(1e-8, 0.5),
                     "Mean unbalanced force ratio ending the intermediate stages");
   prm.declare_entry("equilibrium ratio", default_text(b.equilibrium_ratio), Double(1e-8, 0.5),
@@ -257,6 +261,7 @@ SampleParameters read_sample_file(const std::string& path) {
   b.tamping_load_factor = prm.get_double("tamping load factor");
   b.mould_seating_friction = prm.get_double("mould seating friction factor");
   b.mould_seating_time = prm.get_double("mould seating time");
+  b.mould_sleeper_free = prm.get("mould seating sleeper") == "free";
   b.stage_ratio = prm.get_double("stage ratio");
   b.equilibrium_ratio = prm.get_double("equilibrium ratio");
   b.max_stage_time = prm.get_double("maximum stage time");

@@ -209,6 +209,9 @@ Sample SampleBuilder::run(BuildCheckpoint* from) {
   sample.info.push_back({"build/porosity after deposition", number(report_.porosity)});
   sample.info.push_back(
       {"build/mould seating friction factor", number(settings_.mould_seating_friction)});
+  if (settings_.mould_seating_friction > 0)
+    sample.info.push_back(
+        {"build/mould seating sleeper", settings_.mould_sleeper_free ? "free" : "servo"});
   sample.info.push_back({"zone", "none"});
   return sample;
 }
@@ -290,6 +293,7 @@ void SampleBuilder::seat_in_mould() {
     c.max_time = settings_.mould_seating_time;
     c.ratio = settings_.stage_ratio;
     model_.require_seated_sleeper(c);
+    if (settings_.mould_sleeper_free) model_.release_sleeper_when_carried(c);
     settle(to_string(BuildStage::mould_seating), c);
   }
   restore_friction(BuildStage::mould_friction_restored, settings_.mould_seating_friction);
