@@ -63,8 +63,8 @@ struct SampleBuildSettings {
   double mould_seating_time = 1.0;
   // In the mould the sleeper is let go from its seating servo once the bed carries no more than
   // its weight (at once, as it starts clear of the stones), and sinks under its weight as the bed
-  // gives way; false keeps it on the servo, whose slow gain let it carry a quarter of its weight
-  // or less there (docs/samples.md, "Seating in the mould").
+  // gives way; false keeps it on the servo, whose slow gain let it bear at most 38 % of its
+  // weight there in the full-size section (docs/samples.md, "Seating in the mould").
   bool mould_sleeper_free = true;
   double stage_ratio = 1e-3;        // equilibrium of the intermediate stages
   double equilibrium_ratio = 1e-4;  // equilibrium of the finished sample
