@@ -193,7 +193,7 @@ Sample SampleBuilder::run(BuildCheckpoint* from) {
   else
     calibrate();
   deposit();
-  if (settings_.mould_seating_friction > 0) seat_in_mould();
+  if (seats_in_mould()) seat_in_mould();
   seat_sleeper();
   if (resume_)
     throw InputError("the checkpoint was taken in the stage '" + to_string(resume_->stage) +
@@ -209,7 +209,7 @@ Sample SampleBuilder::run(BuildCheckpoint* from) {
   sample.info.push_back({"build/porosity after deposition", number(report_.porosity)});
   sample.info.push_back(
       {"build/mould seating friction factor", number(settings_.mould_seating_friction)});
-  if (settings_.mould_seating_friction > 0)
+  if (seats_in_mould())
     sample.info.push_back(
         {"build/mould seating sleeper", settings_.mould_sleeper_free ? "free" : "servo"});
   sample.info.push_back({"zone", "none"});
@@ -268,7 +268,7 @@ void SampleBuilder::deposit() {
            deposition_criterion(settings_.stage_ratio, settings_.max_stage_time, false));
     report_.porosity = core_porosity(sim_->particles());
   }
-  if (settings_.mould_seating_friction == 0) restore_friction(BuildStage::friction_restored, f);
+  if (!seats_in_mould()) restore_friction(BuildStage::friction_restored, f);
 }
 
 void SampleBuilder::restore_friction(BuildStage s, double factor) {

@@ -140,6 +140,8 @@ class SampleBuilder {
   void calibrate();
   void deposit();
   void restore_friction(BuildStage s, double factor);  // from `factor` times the ballast's
+  // Whether the sleeper is first seated in the mould (a mould seating friction factor > 0).
+  bool seats_in_mould() const { return settings_.mould_seating_friction > 0; }
   void seat_in_mould();
   void seat_sleeper();
   void trimmed_model();
