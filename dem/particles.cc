@@ -133,15 +133,17 @@ void Particles::sort_spatially(double cell) {
 void Particles::update_element_positions(bool parallel) {
   const int nb = num_bodies();
 #pragma omp parallel for schedule(static) if (parallel)
-  for (int b = 0; b < nb; ++b) {
-    const int e0 = first_element[b], e1 = first_element[b + 1];
-    if (!is_clump[b]) {
-      pos[e0] = x[b];
-      continue;
-    }
-    const Mat3 R = q[b].toRotationMatrix();
-    for (int e = e0; e < e1; ++e) pos[e] = x[b] + R * offset[e];
+  for (int b = 0; b < nb; ++b) update_body_elements(b);
+}
+
+void Particles::update_body_elements(int b) {
+  const int e0 = first_element[b], e1 = first_element[b + 1];
+  if (!is_clump[b]) {
+    pos[e0] = x[b];
+    return;
   }
+  const Mat3 R = q[b].toRotationMatrix();
+  for (int e = e0; e < e1; ++e) pos[e] = x[b] + R * offset[e];
 }
 
 Mat3 Particles::world_inertia(int b) const {

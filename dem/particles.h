@@ -61,8 +61,9 @@ struct Particles {
   // `cell`, so that neighbours in space are neighbours in memory: the contact loop then reads
   // mostly from cache. Ids are kept; only indices change.
   void sort_spatially(double cell);
-  // Recomputes element world positions from the body state.
+  // Recomputes element world positions from the body state: of all bodies, of body b.
   void update_element_positions(bool parallel = true);
+  void update_body_elements(int b);
   // World-frame inertia tensor of body b.
   Mat3 world_inertia(int b) const;
   double kinetic_energy() const;

@@ -1,9 +1,10 @@
 // The DEM engine: one class that owns particles, walls and contacts and advances them in time.
 //
 //   run():  repeat step():
-//             compute_forces()   contacts (pairs, planes, meshes), gravity, local damping
-//             integrate()        leapfrog for bodies, wall motion
-//             rebuild if some element moved more than skin/2
+//             compute_forces()     contacts (pairs, planes, meshes)
+//             integrate_bodies()   gravity, local damping, leapfrog for bodies, element positions
+//             move_walls()         wall and mesh motion
+//             rebuild if some element or wall moved more than skin/2
 //
 // The time integration is the central-difference (leapfrog) scheme of PFC: velocities live at
 // half steps, positions at full steps. See docs/theory.md.
@@ -40,9 +41,10 @@ struct SimulationSettings {
   bool allow_supercritical_step = false;
   bool spatial_sort = true;  // reorder bodies along a Morton curve at setup (cache locality)
   // Models with fewer sphere elements run on one thread: their steps are too short to pay for
-  // the ~10 thread barriers of a step, and on a loaded machine each barrier can cost a whole
-  // scheduler time slice.
-  int parallel_threshold = 4000;
+  // a step's two parallel regions, and on a loaded machine each barrier can cost a whole
+  // scheduler time slice. Two threads broke even near 500 balls and were 1.4 times as fast at
+  // 1,700-2,800 (docs/benchmarks.md, "Threads on a small model").
+  int parallel_threshold = 1000;
 };
 
 // Energy bookkeeping (J). With no numerical error
@@ -159,22 +161,36 @@ class Simulation {
   struct WallHistory;
   struct ThreadScratch;
 
+  // The force pass (compute_forces): called by every thread of its parallel region, each
+  // running its share of the loops into its own scratch.
   template <bool Rolling, bool Energy>
-  void pair_forces();
+  void contact_forces(ThreadScratch& s);
   template <bool Rolling, bool Energy>
-  void plane_forces();
+  void pair_forces(ThreadScratch& s);
   template <bool Rolling, bool Energy>
-  void mesh_forces();
+  void plane_forces(ThreadScratch& s);
+  template <bool Rolling, bool Energy>
+  void mesh_forces(ThreadScratch& s);
   // Where this thread adds body forces and moments (see ThreadScratch).
   std::pair<Vec3*, Vec3*> body_load_arrays(ThreadScratch& s);
+  void clear_thread_loads(ThreadScratch& s);
+  // Inside the region: the other threads' body loads added to the bodies', body by body.
+  void add_thread_body_loads();
+  // After it: the walls' loads, the dissipation and the runaway check, in thread order.
+  void reduce_thread_wall_loads();
   void compute_forces();
-  void reduce_thread_forces();
-  void apply_body_loads_and_integrate();
+  // Moves the bodies and their elements one step; returns whether an element moved farther than
+  // rebuild_distance() since the last neighbour build.
+  bool integrate_bodies();
   void move_walls();
   // The second half of the work of the walls' last motion with their current loads, -(F . d +
   // M . theta) / 2 summed over the walls (move_walls, trapezoidal rule).
   double closing_wall_work() const;
+  // How far an element or wall may move before the neighbour lists must be rebuilt: half the
+  // skin, less the growth of the radii since the last build.
+  double rebuild_distance() const;
   bool needs_rebuild() const;
+  bool walls_moved(double distance) const;
   void rebuild();
   // Whether a contact these particles can make (element-element, element-wall) has rolling
   // resistance: only then are rolling springs kept and the rolling kernels run.
