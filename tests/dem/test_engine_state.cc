@@ -2,6 +2,7 @@
 // built from the same input, the model steps on bit for bit as the original; a state of another
 // model is refused with one line.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <filesystem>
 
@@ -22,7 +23,9 @@ namespace fs = std::filesystem;
 // a servo: every kind of contact history (pairs with rolling springs, planes, mesh slots) and a
 // mesh control that reads the last step's loads. The plate has a material of its own, with
 // rolling resistance; under the min rule its contacts roll only where the stones' do.
-std::unique_ptr<Simulation> model(int balls, double stone_rolling = 0.3) {
+std::unique_ptr<Simulation> model(
+    int balls, double stone_rolling = 0.3,
+    int parallel_threshold = SimulationSettings().parallel_threshold) {
   Material m = testing::test_material(1e6, 0.5, stone_rolling, 0.2);
   m.local_damping = 0.3;
   Material plate_material = testing::test_material(1e6, 0.5, 0.3, 0.2);
@@ -44,6 +47,7 @@ std::unique_ptr<Simulation> model(int balls, double stone_rolling = 0.3) {
   add_random_packing(spec, table, p);
   SimulationSettings s;
   s.time_step = 2e-5;
+  s.parallel_threshold = parallel_threshold;
   auto sim = std::make_unique<Simulation>(std::move(table), std::move(p), s);
   testing::add_open_box(*sim, 0.3);
   MeshBody plate = MeshBody::from_world_mesh(
@@ -75,14 +79,18 @@ void expect_same_steps(Simulation& a, Simulation& b, int steps) {
   EXPECT_EQ(a.num_neighbor_builds(), b.num_neighbor_builds());
 }
 
+// Runs the model until the bed has landed and the plate presses on it (the servo makes it bounce).
+void press_plate_onto_bed(Simulation& a) {
+  a.setup();
+  testing::run_for(a, 0.45);
+  for (int i = 0; i < 5000 && std::abs(a.meshes()[0].contact_force.z()) <= 1.0; ++i) a.step();
+  ASSERT_GT(a.num_contacts(), 100);
+  ASSERT_GT(std::abs(a.meshes()[0].contact_force.z()), 1.0);
+}
+
 TEST(EngineState, RestoredModelStepsOnBitForBit) {
   auto a = model(120);
-  a->setup();
-  testing::run_for(*a, 0.45);  // the bed lands, the plate comes down onto it
-  // The servo makes the plate bounce on the bed: save a step at which it presses it.
-  for (int i = 0; i < 5000 && std::abs(a->meshes()[0].contact_force.z()) <= 1.0; ++i) a->step();
-  ASSERT_GT(a->num_contacts(), 100);
-  ASSERT_GT(std::abs(a->meshes()[0].contact_force.z()), 1.0);
+  press_plate_onto_bed(*a);
   const fs::path file = fs::temp_directory_path() / "trackbed_test_engine_state.h5";
   hdf5::write_file(file.string(), "state",
                    [&](hid_t f) { write_engine_state(f, a->engine_state()); });
@@ -94,6 +102,32 @@ TEST(EngineState, RestoredModelStepsOnBitForBit) {
   }
   fs::remove(file);
   expect_same_steps(*a, *b, 3000);
+}
+
+// A step runs in two parallel regions, the force pass with one barrier (docs/theory.md, "Two
+// parallel regions a step"). From the same state, steps on two threads must give the one-thread
+// steps' bodies, plate and contacts to round-off: the threads only sum each body's loads in
+// another order (about 1e-16 of a force, moving a body by far less than 1e-12 m in ten steps of
+// 2e-5 s), while a load lost or counted twice by a race moves a stone of this pressed bed by
+// about F dt^2 / m, 1e-9 to 1e-7 m a step.
+TEST(EngineState, TwoThreadsStepAsOneToRoundOff) {
+  omp_set_num_threads(1);
+  auto a = model(120, 0.3, 0);  // every model parallel: this one has 180 elements
+  press_plate_onto_bed(*a);
+  auto b = model(120, 0.3, 0);
+  b->restore_engine_state(a->engine_state());
+  for (int i = 0; i < 10; ++i) a->step();
+  omp_set_num_threads(2);
+  for (int i = 0; i < 10; ++i) b->step();
+  omp_set_num_threads(1);
+  const Particles &pa = a->particles(), &pb = b->particles();
+  for (int i = 0; i < pa.num_bodies(); ++i) {
+    ASSERT_LT((pa.x[i] - pb.x[i]).norm(), 1e-12) << "body " << i;
+    ASSERT_LT((pa.w[i] - pb.w[i]).norm(), 1e-9) << "body " << i;  // rad/s
+  }
+  const Vec3 fa = a->meshes()[0].contact_force, fb = b->meshes()[0].contact_force;
+  EXPECT_LT((fa - fb).norm(), 1e-9 * fa.norm());
+  EXPECT_EQ(a->num_contacts(), b->num_contacts());
 }
 
 TEST(EngineState, StateOfAnotherModelIsRefused) {
