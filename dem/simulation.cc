@@ -240,7 +240,7 @@ bool Simulation::needs_rebuild() const {
   int moved = 0;
 #pragma omp parallel for schedule(static) reduction(max : moved) if (parallel_)
   for (int e = 0; e < n; ++e)
-    if ((p_.pos[e] - pos_at_build_[e]).squaredNorm() > limit) moved = 1;
+    if (moved_farther_than(e, limit)) moved = 1;
   return moved || walls_moved(half);
 }
 
@@ -725,7 +725,7 @@ bool Simulation::integrate_bodies() {
       my_local -= Fd.dot(dx) + Md.dot(p_.w[b]) * dt;
       p_.update_body_elements(b);
       for (int e = p_.first_element[b]; e < p_.first_element[b + 1]; ++e)
-        if ((p_.pos[e] - pos_at_build_[e]).squaredNorm() > limit) moved = 1;
+        if (moved_farther_than(e, limit)) moved = 1;
     }
     local[omp_get_thread_num()] = my_local;
     gravity_work[omp_get_thread_num()] = my_gravity_work;

@@ -190,6 +190,10 @@ class Simulation {
   // skin, less the growth of the radii since the last build.
   double rebuild_distance() const;
   bool needs_rebuild() const;
+  // Whether element e has moved more than sqrt(squared_distance) since the last build.
+  bool moved_farther_than(int e, double squared_distance) const {
+    return (p_.pos[e] - pos_at_build_[e]).squaredNorm() > squared_distance;
+  }
   bool walls_moved(double distance) const;
   void rebuild();
   // Whether a contact these particles can make (element-element, element-wall) has rolling
