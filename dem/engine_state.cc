@@ -180,6 +180,7 @@ void Simulation::restore_engine_state(EngineState s) {
     last_wall_motion_.emplace_back(s.wall_move[k], s.wall_turn[k]);
   list_.offsets = std::move(s.list_offsets);
   list_.partners = std::move(s.list_partners);
+  pair_ranges_.clear();  // made again for the restored list
   pair_history_->shear = std::move(s.pair_shear);
   pair_history_->roll = std::move(s.pair_roll);
   rolling_ = rolling;

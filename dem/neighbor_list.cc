@@ -105,4 +105,30 @@ int NeighborList::find(int i, int j) const {
   return (it != e && *it == j) ? static_cast<int>(it - partners.begin()) : -1;
 }
 
+std::vector<int> NeighborList::balanced_ranges(const std::vector<Vec3>& pos,
+                                               const std::vector<double>& radius, int parts) const {
+  const int n = static_cast<int>(offsets.size()) - 1;
+  std::vector<int> ranges(parts + 1, n);
+  ranges[0] = 0;
+  if (parts == 1) return ranges;
+  std::vector<long long> work(n + 1, 0);  // work[i + 1]: row i's, summed below to a prefix
+#pragma omp parallel for schedule(static)
+  for (int i = 0; i < n; ++i) {
+    long long w = 1;  // the row's own cost, for a row without pairs
+    for (int k = offsets[i]; k < offsets[i + 1]; ++k) {
+      const int j = partners[k];
+      const double rsum = radius[i] + radius[j];
+      w += (pos[j] - pos[i]).squaredNorm() < rsum * rsum ? kTouchingPairWork : 1;
+    }
+    work[i + 1] = w;
+  }
+  for (int i = 0; i < n; ++i) work[i + 1] += work[i];
+  // Boundary t: the first row whose work before it reaches t / parts of the whole.
+  for (int t = 1; t < parts; ++t) {
+    const long long share = work[n] * t / parts;
+    ranges[t] = static_cast<int>(std::lower_bound(work.begin(), work.end(), share) - work.begin());
+  }
+  return ranges;
+}
+
 }  // namespace trackbed::dem

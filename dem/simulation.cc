@@ -340,7 +340,10 @@ void Simulation::visit_mesh_contacts(Visitor&& visit) const {
 
 template <bool Rolling, bool Energy>
 void Simulation::pair_forces(ThreadScratch& s) {
-  const int n = p_.num_elements();
+  // This thread's rows of the list: a share of the work, not of the elements (the contacts are
+  // denser in some parts of a bed than in others).
+  const int t = omp_get_thread_num();
+  const int first = pair_ranges_[t], last = pair_ranges_[t + 1];
   const double dt = settings_.time_step;
   const double ratio_limit = settings_.max_overlap_ratio;
   PairHistory& h = *pair_history_;
@@ -350,8 +353,7 @@ void Simulation::pair_forces(ThreadScratch& s) {
   auto [F, T] = body_load_arrays(s);
   Dissipation d;
   Vec3 unused_roll, roll_moment = Vec3::Zero();
-#pragma omp for schedule(static) nowait
-  for (int i = 0; i < n; ++i) {
+  for (int i = first; i < last; ++i) {
     const Vec3 xi = p_.pos[i];
     const double ri = p_.radius[i];
     const int bi = p_.body[i];
@@ -548,6 +550,10 @@ std::pair<Vec3*, Vec3*> Simulation::body_load_arrays(ThreadScratch& s) {
 void Simulation::compute_forces() {
   const int nthreads = team_size();
   scratch_->resize(nthreads);
+  if (static_cast<int>(pair_ranges_.size()) != nthreads + 1 || pair_ranges_build_ != builds_) {
+    pair_ranges_ = list_.balanced_ranges(pos_at_build_, radius_at_build_, nthreads);
+    pair_ranges_build_ = builds_;
+  }
   // One parallel region for the whole pass, with one barrier: each thread clears its own
   // buffers, runs its share of the pair, plane and mesh loops one after the other (it writes only
   // its buffers and its own contacts' history, so they need no barrier between them) and, once

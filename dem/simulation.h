@@ -222,6 +222,10 @@ class Simulation {
   std::vector<MeshBody> meshes_;
 
   NeighborList list_;
+  // Each thread's rows of the list in the force pass (NeighborList::balanced_ranges), made for
+  // the list of build number pair_ranges_build_.
+  std::vector<int> pair_ranges_;
+  int pair_ranges_build_ = -1;
   std::unique_ptr<PairHistory> pair_history_;
   std::vector<WallHistory> plane_history_;
   std::vector<Vec3> pos_at_build_;

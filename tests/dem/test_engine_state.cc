@@ -88,20 +88,40 @@ void press_plate_onto_bed(Simulation& a) {
   ASSERT_GT(std::abs(a.meshes()[0].contact_force.z()), 1.0);
 }
 
-TEST(EngineState, RestoredModelStepsOnBitForBit) {
-  auto a = model(120);
+// Saved to a file and restored into a model of the same input, never set up or set up (as
+// `trackbed resume` restores), on one thread and on two (each thread's share of the pair loop is
+// made from the list and the positions at its build, which the state holds: NeighborList::
+// balanced_ranges).
+void expect_restored_model_steps_on(int threads, bool restore_into_set_up_model) {
+  omp_set_num_threads(threads);
+  const int threshold = threads > 1 ? 0 : SimulationSettings().parallel_threshold;
+  auto a = model(120, 0.3, threshold);
   press_plate_onto_bed(*a);
   const fs::path file = fs::temp_directory_path() / "trackbed_test_engine_state.h5";
   hdf5::write_file(file.string(), "state",
                    [&](hid_t f) { write_engine_state(f, a->engine_state()); });
 
-  auto b = model(120);  // the same input, never set up
+  auto b = model(120, 0.3, threshold);  // the same input
+  if (restore_into_set_up_model) {
+    b->setup();
+    testing::run_for(*b, 0.05);  // a list and a split of its own, of another state
+  }
   {
     hdf5::Handle f(hdf5::open_for_reading(file.string(), "state"), H5Fclose, "open");
     b->restore_engine_state(read_engine_state(f, file.string()));
   }
   fs::remove(file);
   expect_same_steps(*a, *b, 3000);
+  omp_set_num_threads(1);
+}
+
+TEST(EngineState, RestoredModelStepsOnBitForBit) {
+  expect_restored_model_steps_on(1, false);
+}
+
+TEST(EngineState, RestoredModelStepsOnBitForBitOnTwoThreads) {
+  expect_restored_model_steps_on(2, false);
+  expect_restored_model_steps_on(2, true);
 }
 
 // A step runs in two parallel regions, the force pass with one barrier (docs/theory.md, "Two
