@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "dem/work_split.h"
+
 namespace trackbed::dem {
 
 void CellGrid::build(const std::vector<Vec3>& points, double min_cell) {
@@ -108,9 +110,7 @@ int NeighborList::find(int i, int j) const {
 std::vector<int> NeighborList::balanced_ranges(const std::vector<Vec3>& pos,
                                                const std::vector<double>& radius, int parts) const {
   const int n = static_cast<int>(offsets.size()) - 1;
-  std::vector<int> ranges(parts + 1, n);
-  ranges[0] = 0;
-  if (parts == 1) return ranges;
+  if (parts == 1) return {0, n};
   std::vector<long long> work(n + 1, 0);  // work[i + 1]: row i's, summed below to a prefix
 #pragma omp parallel for schedule(static)
   for (int i = 0; i < n; ++i) {
@@ -123,12 +123,7 @@ std::vector<int> NeighborList::balanced_ranges(const std::vector<Vec3>& pos,
     work[i + 1] = w;
   }
   for (int i = 0; i < n; ++i) work[i + 1] += work[i];
-  // Boundary t: the first row whose work before it reaches t / parts of the whole.
-  for (int t = 1; t < parts; ++t) {
-    const long long share = work[n] * t / parts;
-    ranges[t] = static_cast<int>(std::lower_bound(work.begin(), work.end(), share) - work.begin());
-  }
-  return ranges;
+  return split_by_work(work, parts);
 }
 
 }  // namespace trackbed::dem

@@ -182,6 +182,9 @@ class Simulation {
   // Moves the bodies and their elements one step; returns whether an element moved farther than
   // rebuild_distance() since the last neighbour build.
   bool integrate_bodies();
+  // Each thread's bodies in integrate_bodies: `parts` contiguous shares of about equal work
+  // (a clump's rotation and its elements weigh more than a ball).
+  std::vector<int> body_work_ranges(int parts) const;
   void move_walls();
   // The second half of the work of the walls' last motion with their current loads, -(F . d +
   // M . theta) / 2 summed over the walls (move_walls, trapezoidal rule).
@@ -226,6 +229,7 @@ class Simulation {
   // the list of build number pair_ranges_build_.
   std::vector<int> pair_ranges_;
   int pair_ranges_build_ = -1;
+  std::vector<int> body_ranges_;  // each thread's bodies in integrate_bodies (body_work_ranges)
   std::unique_ptr<PairHistory> pair_history_;
   std::vector<WallHistory> plane_history_;
   std::vector<Vec3> pos_at_build_;
