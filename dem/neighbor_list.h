@@ -22,9 +22,9 @@ class NeighborList {
   // The index of pair (i, j) in `partners`, or -1. Binary search; for tests and remapping.
   int find(int i, int j) const;
   // Splits the rows (elements i) into `parts` contiguous ranges of about equal force work:
-  // returns parts + 1 boundaries, range t = [r[t], r[t+1]). A row's work is its pairs, a pair in
-  // contact at `pos`/`radius` counting kTouchingPairWork times a pair apart (docs/theory.md,
-  // "Two parallel regions a step"). A function of the list and the positions only, so the
+  // returns parts + 1 boundaries, range t = [r[t], r[t+1]). A row's work is 1 and 1 for each of
+  // its pairs, kTouchingPairWork for a pair in contact at `pos`/`radius` (docs/theory.md, "The
+  // loops are shared by work"). A function of the list and the positions only, so the
   // partition, and the order of every force sum, is the same in a resumed run.
   std::vector<int> balanced_ranges(const std::vector<Vec3>& pos, const std::vector<double>& radius,
                                    int parts) const;
