@@ -226,6 +226,7 @@ void Simulation::rebuild() {
   for (const auto& m : meshes_) plane_point_at_build_.push_back(m.x);
   mesh_q_at_build_.clear();
   for (const auto& m : meshes_) mesh_q_at_build_.push_back(m.q);
+  pair_ranges_.clear();  // made again for the new list (compute_forces)
   ++builds_;
 }
 
@@ -551,9 +552,8 @@ std::pair<Vec3*, Vec3*> Simulation::body_load_arrays(ThreadScratch& s) {
 void Simulation::compute_forces() {
   const int nthreads = team_size();
   scratch_->resize(nthreads);
-  if (static_cast<int>(pair_ranges_.size()) != nthreads + 1 || pair_ranges_build_ != builds_) {
+  if (static_cast<int>(pair_ranges_.size()) != nthreads + 1) {
     pair_ranges_ = list_.balanced_ranges(pos_at_build_, radius_at_build_, nthreads);
-    pair_ranges_build_ = builds_;
   }
   // One parallel region for the whole pass, with one barrier: each thread clears its own
   // buffers, runs its share of the pair, plane and mesh loops one after the other (it writes only

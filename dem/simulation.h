@@ -225,10 +225,9 @@ class Simulation {
   std::vector<MeshBody> meshes_;
 
   NeighborList list_;
-  // Each thread's rows of the list in the force pass (NeighborList::balanced_ranges), made for
-  // the list of build number pair_ranges_build_.
+  // Each thread's rows of the list in the force pass (NeighborList::balanced_ranges); emptied
+  // when the list changes (rebuild, restore) and made again by the next force pass.
   std::vector<int> pair_ranges_;
-  int pair_ranges_build_ = -1;
   std::vector<int> body_ranges_;  // each thread's bodies in integrate_bodies (body_work_ranges)
   std::unique_ptr<PairHistory> pair_history_;
   std::vector<WallHistory> plane_history_;
