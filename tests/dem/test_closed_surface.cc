@@ -12,27 +12,14 @@
 
 #include "dem/input_error.h"
 #include "icosphere.h"
+#include "input_error_message.h"
 
 namespace trackbed::dem {
 namespace {
 
+using testing::contains;
 using testing::icosphere;
-
-// The message of the InputError `f` throws, or a failure if it throws none.
-template <typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no InputError";
-  return "";
-}
-
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using testing::input_error_message;
 
 TriangleMesh box(const Vec3& lower, const Vec3& upper) {
   return make_box_mesh(lower, upper, false);
@@ -62,7 +49,7 @@ TEST(ClosedSurface, RefusesAnOpenBox) {
   mesh.triangles.pop_back();
   mesh.triangle_part.pop_back();
   mesh.finalize();
-  const std::string e = error_of([&] { check_closed_surface(mesh, "open.stl"); });
+  const std::string e = input_error_message([&] { check_closed_surface(mesh, "open.stl"); });
   EXPECT_TRUE(contains(e, "open.stl: the surface is not closed")) << e;
   EXPECT_TRUE(contains(e, "3 edges with one triangle")) << e;
   EXPECT_TRUE(contains(e, "exactly two triangles")) << e;
@@ -72,7 +59,7 @@ TEST(ClosedSurface, RefusesAMisorientedTriangle) {
   TriangleMesh mesh = box(Vec3::Zero(), Vec3(1, 1, 1));
   std::swap(mesh.triangles[4][1], mesh.triangles[4][2]);
   mesh.finalize();
-  const std::string e = error_of([&] { check_closed_surface(mesh, "flipped"); });
+  const std::string e = input_error_message([&] { check_closed_surface(mesh, "flipped"); });
   EXPECT_TRUE(contains(e, "flipped: the surface is not closed")) << e;
   EXPECT_TRUE(contains(e, "3 between triangles of opposite orientation")) << e;
 }
@@ -82,7 +69,7 @@ TEST(ClosedSurface, RefusesAnInwardBox) {
   for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
   mesh.finalize();
   ASSERT_TRUE(mesh.is_closed());
-  const std::string e = error_of([&] { check_closed_surface(mesh, "inward.stl"); });
+  const std::string e = input_error_message([&] { check_closed_surface(mesh, "inward.stl"); });
   EXPECT_TRUE(contains(e, "inward.stl: ")) << e;
   EXPECT_TRUE(contains(e, "volume -1")) << e;
   EXPECT_TRUE(contains(e, "counter-clockwise seen from outside")) << e;
@@ -93,7 +80,7 @@ TEST(ClosedSurface, RefusesIntersectingBoxes) {
   for (const Vec3& shift : {Vec3(0.5, 0.3, 0.2), Vec3(1.0, 0.3, 0.2), Vec3(0.2, 0.3, 0.1)}) {
     const TriangleMesh mesh = two_boxes(shift);
     ASSERT_TRUE(mesh.is_closed());
-    const std::string e = error_of([&] { check_closed_surface(mesh, "two.stl"); });
+    const std::string e = input_error_message([&] { check_closed_surface(mesh, "two.stl"); });
     EXPECT_TRUE(contains(e, "two.stl: the surface intersects itself: triangles")) << e;
   }
 }
@@ -106,7 +93,7 @@ TEST(ClosedSurface, DegenerateTriangleInAnStlNamesFileAndLine) {
                          "facet normal 0 0 1\nouter loop\n"
                          "vertex 0 0 0\nvertex 1 0 0\nvertex 2 0 0\n"
                          "endloop\nendfacet\nendsolid s\n";
-  const std::string e = error_of([&] { read_closed_surface(path); });
+  const std::string e = input_error_message([&] { read_closed_surface(path); });
   std::filesystem::remove(path);
   EXPECT_TRUE(contains(e, path + ":2: triangle 0")) << e;
   EXPECT_TRUE(contains(e, "is degenerate")) << e;
@@ -119,7 +106,7 @@ TEST(ClosedSurface, LargeMeshIsCheckedFast) {
   TriangleMesh sphere = icosphere(1.0, 6);
   check_closed_surface(sphere, "big sphere");
   sphere.vertices[0] *= -1.2;  // through the far side
-  const std::string e = error_of([&] { check_closed_surface(sphere, "dented sphere"); });
+  const std::string e = input_error_message([&] { check_closed_surface(sphere, "dented sphere"); });
   EXPECT_TRUE(contains(e, "dented sphere: the surface intersects itself")) << e;
 }
 

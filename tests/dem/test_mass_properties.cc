@@ -10,6 +10,7 @@
 
 #include "dem/input_error.h"
 #include "dem/mass_properties.h"
+#include "input_error_message.h"
 
 namespace trackbed::dem {
 namespace {
@@ -261,17 +262,7 @@ TEST(MassProperties, PrincipalAxesAreOrthonormalAndRightHanded) {
   EXPECT_LT((rebuilt - mp.inertia).norm(), 1e-12 * mp.inertia.trace());
 }
 
-// Runs `call` and returns the InputError message, or fails the test if none is thrown.
-template <typename Call>
-std::string input_error_message(Call call) {
-  try {
-    call();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no InputError thrown";
-  return "";
-}
+using testing::input_error_message;
 
 TEST(MassProperties, RejectsInvalidInput) {
   const Vec3 o = Vec3::Zero();

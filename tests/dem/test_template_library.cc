@@ -15,6 +15,7 @@
 #include "dem/closed_surface.h"
 #include "dem/csv_table.h"
 #include "dem/input_error.h"
+#include "input_error_message.h"
 
 namespace trackbed::dem {
 namespace {
@@ -24,20 +25,8 @@ namespace fs = std::filesystem;
 const std::string kLibrary = std::string(TRACKBED_SOURCE_DIR) + "/cases/templates/ballast";
 const std::string kManifest = kLibrary + "/library.csv";
 
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
-
-template <typename F>
-std::string error_of(F&& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no InputError";
-  return "";
-}
+using testing::contains;
+using testing::input_error_message;
 
 // The manifest stores 8 significant digits: a relative rounding of at most 5e-8.
 void expect_stored(double stored, double computed, const std::string& what) {
@@ -140,7 +129,7 @@ class BadManifest : public ::testing::Test {
   std::string error_reading(const std::string& row, const std::string& setting = "D120R0.5") {
     const std::string path = (dir_ / "library.csv").string();
     std::ofstream(path) << header_ << "\n" << row << "\n";
-    return error_of([&] { read_template_library(path, setting, MassSource::surface); });
+    return input_error_message([&] { read_template_library(path, setting, MassSource::surface); });
   }
   // The row with the field of `column` set to `value`.
   std::string with_field(const std::string& column, const std::string& value) const {

@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 #include "flat_grid.h"
+#include "input_error_message.h"
 
 namespace trackbed::dem {
 namespace {
@@ -99,21 +100,8 @@ std::string binary_stl(const TriangleMesh& mesh, const std::string& header_text)
   return s;
 }
 
-// The message of the InputError that f throws; fails the test if it throws none.
-template <class F>
-std::string input_error_message(F f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "no InputError thrown";
-  return "";
-}
-
-bool contains(const std::string& text, const std::string& part) {
-  return text.find(part) != std::string::npos;
-}
+using testing::contains;
+using testing::input_error_message;
 
 std::vector<int> all_triangles(const TriangleMesh& mesh) {
   std::vector<int> ids(mesh.triangles.size());
