@@ -120,7 +120,7 @@ std::string SampleCheckpoint::where() const {
   if (in_ball_build)
     return "ball build's " + dem::to_string(ball_build.stage) + " stage at step " +
            std::to_string(ball_build.point.steps);
-  return std::string(conversion.stage == 0 ? "clump growth" : "equilibrium") + " stage at step " +
+  return dem::to_string(conversion.stage) + " stage at step " +
          std::to_string(conversion.point.steps);
 }
 
@@ -141,7 +141,7 @@ void write_sample_checkpoint(const std::string& path, const SampleCheckpoint& c)
     }
     if (c.in_ball_build) write_ball_build(file, b);
     Handle build(hdf5::create_group(file, "build"), H5Gclose, "group build");
-    const int stage = c.in_ball_build ? static_cast<int>(b.stage) : v.stage;
+    const int stage = c.in_ball_build ? static_cast<int>(b.stage) : static_cast<int>(v.stage);
     const dem::StagePoint& at = c.in_ball_build ? b.point : v.point;
     const std::vector<double> counters = {double(stage), double(at.steps), double(at.below),
                                           at.wall_time, c.wall_seconds};
@@ -199,7 +199,7 @@ SampleCheckpoint read_sample_checkpoint(const std::string& path) {
   Handle build(hdf5::open_group(file, path, "build"), H5Gclose, "group build");
   const auto n = hdf5::read_doubles(build, path, "counters", 5);
   const int stage = static_cast<int>(n[0]);
-  const int last = c.in_ball_build ? dem::kBuildStages - 1 : 1;
+  const int last = (c.in_ball_build ? dem::kBuildStages : dem::kConversionStages) - 1;
   if (stage < 0 || stage > last)
     throw dem::InputError(path + ": build/counters names stage " + std::to_string(stage) +
                           " of the " + part + "; valid: 0 to " + std::to_string(last) +
@@ -216,7 +216,7 @@ SampleCheckpoint read_sample_checkpoint(const std::string& path) {
   if (c.in_ball_build)
     b.stage = static_cast<dem::BuildStage>(stage);
   else
-    v.stage = stage;
+    v.stage = static_cast<dem::ConversionStage>(stage);
   c.stages = read_stages(build, path, "build_stages");
   const auto keys = hdf5::read_strings(build, path, "note_keys");
   const auto values = hdf5::read_strings(build, path, "note_values");

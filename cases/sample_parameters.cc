@@ -152,6 +152,11 @@ void declare(ParameterHandler& prm) {
   prm.declare_entry("settling step factor", default_text(c.settling_step_factor), Double(1, 100),
                     "Step of the final equilibrium in units of the grown bed's own; above 1 the "
                     "bodies that need it are density scaled (docs/samples.md)");
+  prm.declare_entry("densification ratio", default_text(c.densification_ratio), Double(0, 0.5),
+                    "Above 0 (and above the equilibrium ratio): the final settling in two "
+                    "stages, down to this ratio without the clumps' rolling resistance, then to "
+                    "the equilibrium ratio with the ballast's (docs/samples.md); 0: one stage, "
+                    "without");
   prm.declare_entry("seed", "1", Integer(0), "Seed of the template choice and orientations");
   prm.leave_subsection();
 
@@ -299,6 +304,12 @@ SampleParameters read_sample_file(const std::string& path) {
   p.conversion.equilibrium_ratio = prm.get_double("equilibrium ratio");
   p.conversion.max_stage_time = prm.get_double("maximum settling time");
   p.conversion.settling_step_factor = prm.get_double("settling step factor");
+  p.conversion.densification_ratio = prm.get_double("densification ratio");
+  if (p.conversion.densification_ratio > 0 &&
+      p.conversion.densification_ratio <= p.conversion.equilibrium_ratio)
+    throw dem::InputError(path + ": zone/densification ratio = " + prm.get("densification ratio") +
+                          " is not above zone/equilibrium ratio = " + prm.get("equilibrium ratio") +
+                          "; valid: 0 (one settling stage) or a ratio above the equilibrium's");
   p.conversion.seed = prm.get_integer("seed");
   p.conversion.skin = b.skin;
   prm.leave_subsection();

@@ -14,6 +14,12 @@
 
 namespace trackbed::dem {
 
+std::string to_string(ConversionStage s) {
+  static const char* const names[kConversionStages] = {"clump growth", "densification",
+                                                       "equilibrium"};
+  return names[static_cast<int>(s)];
+}
+
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
@@ -64,7 +70,7 @@ ClumpConversion::ClumpConversion(const Sample& base, ZonePtr zone,
 Sample ClumpConversion::run(ConversionCheckpoint* from) {
   replace();
   grow(from);
-  settle(from && from->stage == 1 ? from : nullptr);
+  settle(from && from->stage != ConversionStage::growth ? from : nullptr);
   std::vector<std::string> names;
   for (const auto& t : templates_) names.push_back(t.clump.name);
   Sample out = model_.to_sample(*sim_, shape_of_id_, sieve_size_of_id_, names);
@@ -88,7 +94,15 @@ Sample ClumpConversion::run(ConversionCheckpoint* from) {
   out.info.push_back({"zone", zone_->to_string()});
   out.info.push_back({"conversion/templates", templates_.front().setting});
   out.info.push_back({"conversion/seed", std::to_string(settings_.seed)});
-  out.info.push_back({"conversion/clump rolling friction", "0"});
+  // The rolling friction the clumps settled with: the ballast's after a densification, else none.
+  auto text = [](double x) {
+    std::ostringstream s;
+    s << x;
+    return s.str();
+  };
+  out.info.push_back({"conversion/clump rolling friction",
+                      text(sim_->materials()[model_.clump_material()].rolling_friction)});
+  out.info.push_back({"conversion/densification ratio", text(settings_.densification_ratio)});
   out.info.push_back(
       {"conversion/growth step", settings_.growth_step == GrowthStep::probe ? "probe" : "renewed"});
   out.info.push_back(
@@ -181,7 +195,8 @@ ConversionCheckpoint ClumpConversion::checkpoint(const StagePoint& at) const {
   ConversionCheckpoint c;
   c.stage = stage_;
   c.point = at;
-  if (stage_ == 1 && settled_.memory) c.criterion_memory = settled_.memory();
+  if (stage_ == ConversionStage::equilibrium && settled_.memory)
+    c.criterion_memory = settled_.memory();
   c.done = report_.stages;
   c.engine = sim_->engine_state();
   return c;
@@ -233,8 +248,8 @@ void ClumpConversion::grow(ConversionCheckpoint* from) {
   for (const auto& c : base_.contacts.walls)
     if (unchanged(c.element)) carried.walls.push_back(c);
   sim_->restore_contact_state(carried);
-  // Interrupted in the equilibrium stage, the clumps are grown: settle() restores the state.
-  if (from && from->stage == 1) {
+  // Interrupted in the settling, the clumps are grown: settle() restores the state.
+  if (from && from->stage != ConversionStage::growth) {
     report_.stages = from->done;
     return;
   }
@@ -253,7 +268,7 @@ void ClumpConversion::grow(ConversionCheckpoint* from) {
       sim.set_time_step(fraction * sim.critical_timestep());
     };
 
-  stage_ = 0;
+  stage_ = ConversionStage::growth;
   const int interval = settings_.growth_interval;
   const double duration = settings_.growth_time;
   const long steps = static_cast<long>(std::ceil(duration / sim_->time_step()));
@@ -263,7 +278,7 @@ void ClumpConversion::grow(ConversionCheckpoint* from) {
                    : static_cast<double>(step + interval) / steps;
   };
   report_.stages.push_back(runner_.run_for(
-      *sim_, "clump growth", duration,
+      *sim_, to_string(stage_), duration,
       [&](long step) {
         if (step % interval != 0) return;
         set_growth(fraction_after(step));
@@ -275,7 +290,14 @@ void ClumpConversion::grow(ConversionCheckpoint* from) {
 }
 
 void ClumpConversion::settle(ConversionCheckpoint* from) {
-  sim_->set_materials(model_.material_table(StageMaterials{1, 1, {}, true}));
+  const bool split = settings_.densification_ratio > 0;
+  const bool densify = split && (!from || from->stage == ConversionStage::densification);
+  auto materials = [&](bool clump_rolling) {
+    return model_.material_table(StageMaterials{1, 1, {}, true, clump_rolling});
+  };
+  // The materials of the stage it begins in: the clumps roll freely but in a split settling's
+  // equilibrium stage.
+  sim_->set_materials(materials(split && !densify));
   settled_ = SettleCriterion{};
   settled_.max_time = settings_.max_stage_time;
   settled_.ratio = settings_.equilibrium_ratio;
@@ -291,26 +313,41 @@ void ClumpConversion::settle(ConversionCheckpoint* from) {
   if (from) {
     sim_->restore_engine_state(std::move(from->engine));
     dt = sim_->time_step();  // the step it was taking
-    settled_.restore_memory(from->criterion_memory);
+    if (from->stage == ConversionStage::equilibrium)
+      settled_.restore_memory(from->criterion_memory);
     start = from->point;
   }
-  if (settings_.settling_step_factor > 1)
-    scale_density_at_checks(dt, start.steps);
-  else
-    sim_->set_time_step(dt);
-  stage_ = 1;
-  report_.stages.push_back(runner_.settle(*sim_, "equilibrium", settled_, start));
+  if (densify) {
+    // Judged by the ratio alone: the sleeper's seating is the equilibrium stage's to judge.
+    SettleCriterion dense;
+    dense.max_time = settings_.max_stage_time;
+    dense.ratio = settings_.densification_ratio;
+    model_.release_sleeper_when_carried(dense);
+    stage_ = ConversionStage::densification;
+    take_settling_step(dense, dt, start.steps);
+    report_.stages.push_back(runner_.settle(*sim_, to_string(stage_), dense, start));
+    sim_->set_materials(materials(true));
+    start = StagePoint{};
+  }
+  stage_ = ConversionStage::equilibrium;
+  // Density scaled anew after a densification: the rolling springs stiffen the clumps' rotation.
+  take_settling_step(settled_, dt, start.steps);
+  report_.stages.push_back(runner_.settle(*sim_, to_string(stage_), settled_, start));
   sim_->end_density_scaling();
 }
 
-void ClumpConversion::scale_density_at_checks(double dt, long steps_done) {
+void ClumpConversion::take_settling_step(SettleCriterion& c, double dt, long steps_done) {
+  if (settings_.settling_step_factor <= 1) {
+    sim_->set_time_step(dt);
+    return;
+  }
   // Renewed at the checks, where a checkpoint is taken: a resumed stage scales from the same
   // state as the uninterrupted one, bit for bit.
   const double fraction = settings_.critical_fraction;
   sim_->scale_density_for_step(dt, fraction);
   auto steps = std::make_shared<long>(steps_done);
-  settled_.each_step = [record = std::move(settled_.each_step), steps, fraction,
-                        interval = settled_.check_interval](Simulation& sim) {
+  c.each_step = [record = std::move(c.each_step), steps, fraction,
+                 interval = c.check_interval](Simulation& sim) {
     if (record) record(sim);
     if (++*steps % interval == 0) sim.scale_density_for_step(sim.time_step(), fraction);
   };

@@ -8,7 +8,9 @@
 //                       their neighbours, shrunk to that fit (clump_fitting.h)
 //           grow()      grow every clump to full size over growth_time under gravity, the
 //                       friction scaled by growth_friction_factor, the sleeper held by its servo
-//           settle()    friction restored, the model run to equilibrium, the sleeper seated
+//           settle()    friction restored, the model run to equilibrium, the sleeper seated;
+//                       optionally in two stages: densification without the clumps' rolling
+//                       resistance, then equilibrium with it
 //
 // A ball of sieve size a becomes a clump whose sieve size is that of its pebbles
 // (clump_sieve_size): the volume and mass are kept exactly, the sieve size changes by the
@@ -16,6 +18,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "dem/engine_state.h"
@@ -30,6 +33,11 @@ namespace trackbed::dem {
 // The growth's step: the critical step of the full-size clumps where their balls are, fixed (a
 // probe model); or that of the model as it stands, renewed at every check.
 enum class GrowthStep { probe, renewed };
+
+// The stages of a conversion, in their order (densification only when the settling is split).
+enum class ConversionStage : int { growth, densification, equilibrium };
+constexpr int kConversionStages = 3;
+std::string to_string(ConversionStage s);
 
 struct ConversionSettings {
   double growth_time = 0.1;  // s simulated over which the clumps grow to full size
@@ -47,6 +55,12 @@ struct ConversionSettings {
   // above 1 the bodies that need it are density scaled to take it (Simulation::
   // scale_density_for_step), their scaling renewed at every check.
   double settling_step_factor = 1;
+  // Above 0, the final settling is split in two (docs/samples.md, "Densify, then settle with the
+  // clumps' rolling resistance"): down to this ratio without the clumps' rolling resistance
+  // (densification: the clumps slide and roll into place freely), then to equilibrium_ratio with
+  // the clumps given the ballast's rolling friction, which the cases run them with. 0: one stage,
+  // without it (the paper gives rolling resistance to balls only, Table 2).
+  double densification_ratio = 0;
   double skin = 0.004;
   std::uint64_t seed = 1;
 };
@@ -61,7 +75,7 @@ struct ConversionReport {
 // state there: enough to go on as the uninterrupted conversion would (checkpoints,
 // cases/sample_checkpoint.h).
 struct ConversionCheckpoint {
-  int stage = 0;  // 0 growth, 1 equilibrium
+  ConversionStage stage = ConversionStage::growth;
   StagePoint point;
   std::vector<double> criterion_memory;  // the equilibrium stage's (SettleCriterion::memory)
   std::vector<StageReport> done;         // the stages finished before
@@ -96,9 +110,9 @@ class ClumpConversion {
   void replace();
   void grow(ConversionCheckpoint* from);
   void settle(ConversionCheckpoint* from);
-  // Density scales the settling model for step dt, again at every check of the stage, of which
-  // `steps_done` steps are done.
-  void scale_density_at_checks(double dt, long steps_done);
+  // Gives the settling model step dt for the stage judged by `c`, of which `steps_done` steps are
+  // done: density scaled for it (settling_step_factor above 1), now and at every check.
+  void take_settling_step(SettleCriterion& c, double dt, long steps_done);
   void set_growth(double fraction);
 
   const Sample& base_;
@@ -117,8 +131,8 @@ class ClumpConversion {
   std::map<std::int64_t, double> start_scale_of_id_;
   std::vector<Growing> growing_;
   std::unique_ptr<Simulation> sim_;
-  int stage_ = 0;            // running: 0 growth, 1 equilibrium
-  SettleCriterion settled_;  // the equilibrium stage's criterion
+  ConversionStage stage_ = ConversionStage::growth;  // running
+  SettleCriterion settled_;                          // the equilibrium stage's criterion
 };
 
 }  // namespace trackbed::dem

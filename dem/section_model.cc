@@ -51,7 +51,7 @@ MaterialTable SectionModel::material_table(const StageMaterials& stage) const {
   if (stage.clump_material) {
     Material clump = ballast;
     clump.name = kClumpMaterialName;
-    clump.rolling_friction = 0;
+    if (!stage.clump_rolling) clump.rolling_friction = 0;
     t.add(clump);
   }
   return t;

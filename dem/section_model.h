@@ -35,6 +35,9 @@ struct StageMaterials {
   // resistance, for the clumps of a conversion: the paper's contact model gives rolling resistance
   // to balls only (Table 2).
   bool clump_material = false;
+  // The clumps' material keeps the ballast's rolling friction (scaled by rolling_factor), as the
+  // shipped cases run the clumps: a split settling's equilibrium stage (clump_conversion.h).
+  bool clump_rolling = false;
 };
 
 struct StageWalls {

@@ -291,13 +291,47 @@ void BuildSample::check_resumed_conversion(const fs::path& base) {
   EXPECT_EQ(read_sample((out / "sample.h5").string()).info_value("conversion/growth step"),
             "renewed");
   fs::rename(out, whole);
-  for (long step : {growth_steps / 2, growth_steps + 2001}) {
-    ASSERT_EQ(run_signalled(prm, step, SIGTERM).code, 130) << step;
-    const Result resumed_here = run("resume " + out.string());
-    ASSERT_EQ(resumed_here.code, 0) << resumed_here.err;
-    expect_same_sample(out, whole);
-    fs::remove_all(out);
-  }
+  auto stop_and_resume_at = [&](const fs::path& prm, std::initializer_list<long> steps) {
+    for (long step : steps) {
+      ASSERT_EQ(run_signalled(prm, step, SIGTERM).code, 130) << step;
+      const Result resumed_here = run("resume " + out.string());
+      ASSERT_EQ(resumed_here.code, 0) << resumed_here.err;
+      expect_same_sample(out, whole);
+      fs::remove_all(out);
+    }
+  };
+  stop_and_resume_at(prm, {growth_steps / 2, growth_steps + 2001});
+
+  // The settling split in two: densified without the clumps' rolling resistance to a ratio of
+  // 0.1, then settled with the ballast's to 0.05 (the growth as above, bit for bit). Stopped in
+  // either stage, resumed, the same sample; it records what the clumps settled with.
+  fs::remove_all(whole);
+  prm = sample_file("  set checkpoint interval = 0.001\n",
+                    "  set growth step = renewed\n  set settling step factor = 3\n"
+                    "  set densification ratio = 0.1\n");
+  ASSERT_EQ(run("build-sample " + prm.string()).code, 0);
+  const std::string split = slurp(out / "summary.json");
+  std::smatch dense;
+  ASSERT_TRUE(std::regex_search(
+      split, dense,
+      std::regex("\"clump growth\", \"steps\": (\\d+)[\\s\\S]*\"densification\", "
+                 "\"steps\": (\\d+)[\\s\\S]*\"equilibrium\", \"steps\": (\\d+)")));
+  EXPECT_EQ(std::stol(dense[1]), growth_steps);
+  const long densification_steps = std::stol(dense[2]);
+  EXPECT_GT(densification_steps, 0);
+  EXPECT_GT(std::stol(dense[3]), 0);
+  const Sample settled = read_sample((out / "sample.h5").string());
+  EXPECT_EQ(settled.info_value("conversion/clump rolling friction"), "0.3");
+  EXPECT_EQ(settled.info_value("conversion/densification ratio"), "0.1");
+  fs::rename(out, whole);
+  stop_and_resume_at(
+      prm, {growth_steps + densification_steps / 2, growth_steps + densification_steps + 501});
+  // A densification ratio at or below the equilibrium's would end no sooner: refused.
+  const std::string split_prm = slurp(prm);
+  std::ofstream(prm) << split_prm << "subsection zone\n  set densification ratio = 0.05\nend\n";
+  expect_error(run("build-sample " + prm.string()),
+               {"resumable.prm: zone/densification ratio = 0.05",
+                "not above zone/equilibrium ratio = 0.05"});
 }
 
 void BuildSample::check_case_loading(const fs::path& base) {

@@ -157,5 +157,17 @@ TEST(SectionModel, ClumpMaterialIsTheBallastWithoutRollingResistance) {
   EXPECT_EQ(t.pair(0, c).kn, t.pair(0, 0).kn);
 }
 
+// A split settling's equilibrium stage gives the clumps the ballast's rolling friction (the
+// shipped cases run them with it), scaled as the balls' is.
+TEST(SectionModel, ClumpMaterialWithRollingKeepsTheBallastsRollingFriction) {
+  const SectionModel model(TrackSection{}, SectionMaterials{}, SimulationSettings{});
+  const MaterialTable t = model.material_table(StageMaterials{1, 0.5, {}, true, true});
+  const int c = model.clump_material();
+  EXPECT_DOUBLE_EQ(t[c].rolling_friction, 0.15);
+  EXPECT_DOUBLE_EQ(t.pair(c, c).mu_roll, 0.15);
+  EXPECT_DOUBLE_EQ(t.pair(0, c).mu_roll, t.pair(0, 0).mu_roll);
+  EXPECT_EQ(t[c].friction, t[0].friction);
+}
+
 }  // namespace
 }  // namespace trackbed::dem
