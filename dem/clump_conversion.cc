@@ -327,10 +327,13 @@ void ClumpConversion::settle(ConversionCheckpoint* from) {
     take_settling_step(dense, dt, start.steps);
     report_.stages.push_back(runner_.settle(*sim_, to_string(stage_), dense, start));
     sim_->set_materials(materials(true));
+    // The rolling springs stiffen the clumps' rotation: density scaled anew below, or, unscaled, a
+    // step the model can take with them.
+    if (settings_.settling_step_factor <= 1)
+      dt = std::min(dt, settings_.critical_fraction * sim_->critical_timestep());
     start = StagePoint{};
   }
   stage_ = ConversionStage::equilibrium;
-  // Density scaled anew after a densification: the rolling springs stiffen the clumps' rotation.
   take_settling_step(settled_, dt, start.steps);
   report_.stages.push_back(runner_.settle(*sim_, to_string(stage_), settled_, start));
   sim_->end_density_scaling();
