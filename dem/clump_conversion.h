@@ -55,11 +55,12 @@ struct ConversionSettings {
   // above 1 the bodies that need it are density scaled to take it (Simulation::
   // scale_density_for_step), their scaling renewed at every check.
   double settling_step_factor = 1;
-  // Above 0, the final settling is split in two (docs/samples.md, "Densify, then settle with the
-  // clumps' rolling resistance"): down to this ratio without the clumps' rolling resistance
-  // (densification: the clumps slide and roll into place freely), then to equilibrium_ratio with
-  // the clumps given the ballast's rolling friction, which the cases run them with. 0: one stage,
-  // without it (the paper gives rolling resistance to balls only, Table 2).
+  // Above 0, the final settling is split in two (docs/samples.md, "Densify without the clumps'
+  // rolling friction, then settle with it"): down to this ratio without the clumps' rolling
+  // resistance (densification: the clumps slide and roll into place freely), then to
+  // equilibrium_ratio with the clumps given the ballast's rolling friction, which the cases run
+  // them with. 0: one stage, without it (the paper's Table 2 gives rolling resistance to balls
+  // only).
   double densification_ratio = 0;
   double skin = 0.004;
   std::uint64_t seed = 1;
