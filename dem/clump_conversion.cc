@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <random>
-#include <sstream>
 
 #include "dem/ballast_stone.h"
 #include "dem/clump_fitting.h"
@@ -95,14 +94,11 @@ Sample ClumpConversion::run(ConversionCheckpoint* from) {
   out.info.push_back({"conversion/templates", templates_.front().setting});
   out.info.push_back({"conversion/seed", std::to_string(settings_.seed)});
   // The rolling friction the clumps settled with: the ballast's after a densification, else none.
-  auto text = [](double x) {
-    std::ostringstream s;
-    s << x;
-    return s.str();
-  };
-  out.info.push_back({"conversion/clump rolling friction",
-                      text(sim_->materials()[model_.clump_material()].rolling_friction)});
-  out.info.push_back({"conversion/densification ratio", text(settings_.densification_ratio)});
+  out.info.push_back(
+      {"conversion/clump rolling friction",
+       exact_number_text(sim_->materials()[model_.clump_material()].rolling_friction)});
+  out.info.push_back(
+      {"conversion/densification ratio", exact_number_text(settings_.densification_ratio)});
   out.info.push_back(
       {"conversion/growth step", settings_.growth_step == GrowthStep::probe ? "probe" : "renewed"});
   out.info.push_back(

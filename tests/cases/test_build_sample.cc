@@ -291,16 +291,10 @@ void BuildSample::check_resumed_conversion(const fs::path& base) {
   EXPECT_EQ(read_sample((out / "sample.h5").string()).info_value("conversion/growth step"),
             "renewed");
   fs::rename(out, whole);
-  auto stop_and_resume_at = [&](const fs::path& prm, std::initializer_list<long> steps) {
-    for (long step : steps) {
-      ASSERT_EQ(run_signalled(prm, step, SIGTERM).code, 130) << step;
-      const Result resumed_here = run("resume " + out.string());
-      ASSERT_EQ(resumed_here.code, 0) << resumed_here.err;
-      expect_same_sample(out, whole);
-      fs::remove_all(out);
-    }
-  };
-  stop_and_resume_at(prm, {growth_steps / 2, growth_steps + 2001});
+  stop_and_resume(prm, growth_steps / 2, out, whole, "clump growth stage at step");
+  fs::remove_all(out);
+  stop_and_resume(prm, growth_steps + 2001, out, whole, "equilibrium stage at step");
+  fs::remove_all(out);
 
   // The settling split in two: densified without the clumps' rolling resistance to a ratio of
   // 0.1, then settled with the ballast's to 0.05 (the growth as above, bit for bit). Stopped in
@@ -324,8 +318,12 @@ void BuildSample::check_resumed_conversion(const fs::path& base) {
   EXPECT_EQ(settled.info_value("conversion/clump rolling friction"), "0.3");
   EXPECT_EQ(settled.info_value("conversion/densification ratio"), "0.1");
   fs::rename(out, whole);
-  stop_and_resume_at(
-      prm, {growth_steps + densification_steps / 2, growth_steps + densification_steps + 501});
+  stop_and_resume(prm, growth_steps + densification_steps / 2, out, whole,
+                  "densification stage at step");
+  fs::remove_all(out);
+  stop_and_resume(prm, growth_steps + densification_steps + 501, out, whole,
+                  "equilibrium stage at step");
+  fs::remove_all(out);
   // A densification ratio at or below the equilibrium's would end no sooner: refused.
   const std::string split_prm = slurp(prm);
   std::ofstream(prm) << split_prm << "subsection zone\n  set densification ratio = 0.05\nend\n";
