@@ -141,6 +141,9 @@ void declare(ParameterHandler& prm) {
   prm.declare_entry("growth step", "probe", Selection("probe|renewed"),
                     "Step of the growth: the critical step of the fully grown clumps where their "
                     "balls are (probe), or of the model as it stands, renewed every 500 steps");
+  prm.declare_entry("growth step factor", default_text(c.growth_step_factor), Double(1, 100),
+                    "Renewed growth step in units of the bed's own; above 1 the bodies that need "
+                    "it are density scaled (docs/samples.md); the probe's step takes 1 only");
   prm.declare_entry("growth friction factor", default_text(c.growth_friction_factor), Double(0, 1),
                     "Ballast friction and rolling factor while the clumps grow");
   prm.declare_entry("orientation trials", std::to_string(c.orientation_trials), Integer(1, 1000),
@@ -300,6 +303,11 @@ SampleParameters read_sample_file(const std::string& path) {
   p.conversion.growth_friction_factor = prm.get_double("growth friction factor");
   p.conversion.growth_step =
       prm.get("growth step") == "probe" ? dem::GrowthStep::probe : dem::GrowthStep::renewed;
+  p.conversion.growth_step_factor = prm.get_double("growth step factor");
+  if (p.conversion.growth_step_factor > 1 && p.conversion.growth_step == dem::GrowthStep::probe)
+    throw dem::InputError(path + ": zone/growth step factor = " + prm.get("growth step factor") +
+                          " with zone/growth step = probe (a fixed step); valid: 1, or growth "
+                          "step = renewed");
   p.conversion.orientation_trials = prm.get_integer("orientation trials");
   p.conversion.equilibrium_ratio = prm.get_double("equilibrium ratio");
   p.conversion.max_stage_time = prm.get_double("maximum settling time");

@@ -50,7 +50,12 @@ ClumpConversion::ClumpConversion(const Sample& base, ZonePtr zone,
   check_range("conversion: growth interval", settings_.growth_interval, 1, 1e6);
   check_range("conversion: growth friction factor", settings_.growth_friction_factor, 0, 1);
   check_range("conversion: equilibrium ratio", settings_.equilibrium_ratio, 1e-8, 0.5);
+  check_range("conversion: growth step factor", settings_.growth_step_factor, 1, 100);
   check_range("conversion: settling step factor", settings_.settling_step_factor, 1, 100);
+  if (settings_.growth_step_factor > 1 && settings_.growth_step == GrowthStep::probe)
+    throw InputError(
+        "conversion: a growth step factor above 1 with the probe's growth step; "
+        "valid: 1, or the renewed growth step");
   if (templates_.empty())
     throw InputError("conversion: no clump templates; valid: a library setting with templates");
   for (const LibraryTemplate& t : templates_) {
@@ -101,6 +106,8 @@ Sample ClumpConversion::run(ConversionCheckpoint* from) {
       {"conversion/densification ratio", exact_number_text(settings_.densification_ratio)});
   out.info.push_back(
       {"conversion/growth step", settings_.growth_step == GrowthStep::probe ? "probe" : "renewed"});
+  out.info.push_back(
+      {"conversion/growth step factor", exact_number_text(settings_.growth_step_factor)});
   out.info.push_back(
       {"conversion/settling step factor", std::to_string(settings_.settling_step_factor)});
   return out;
@@ -259,9 +266,19 @@ void ClumpConversion::grow(ConversionCheckpoint* from) {
   if (renewed)
     // The critical step of the model as it stands, renewed at every check (500 steps, in which
     // the clumps grow by well under a thousandth of their size): the clumps touch their
-    // neighbours as they grow, not as the probe's full-size clumps in the balls' places.
-    renewal.renew = [fraction = settings_.critical_fraction](Simulation& sim) {
-      sim.set_time_step(fraction * sim.critical_timestep());
+    // neighbours as they grow, not as the probe's full-size clumps in the balls' places. A
+    // multiple of it with the bodies that need it density scaled, their factors renewed with it:
+    // for every pair of their neighbour list, as the growing clumps touch new neighbours between
+    // two checks (scaled for their contacts alone, a loose bed's stones that touched few blew
+    // the bed apart once they met more: docs/samples.md, "Time step").
+    renewal.renew = [fraction = settings_.critical_fraction,
+                     factor = settings_.growth_step_factor](Simulation& sim) {
+      sim.end_density_scaling();  // the unscaled bed's critical step
+      const double dt = factor * fraction * sim.critical_timestep();
+      if (factor > 1)
+        sim.scale_density_for_step(dt, fraction, true);
+      else
+        sim.set_time_step(dt);
     };
 
   stage_ = ConversionStage::growth;
@@ -283,6 +300,7 @@ void ClumpConversion::grow(ConversionCheckpoint* from) {
       start, 500, renewal));
   set_growth(1);
   sim_->particles_changed();
+  sim_->end_density_scaling();  // the settling takes its own step from the unscaled bed
 }
 
 void ClumpConversion::settle(ConversionCheckpoint* from) {

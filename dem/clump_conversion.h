@@ -43,6 +43,10 @@ struct ConversionSettings {
   double growth_time = 0.1;  // s simulated over which the clumps grow to full size
   int growth_interval = 50;  // steps between two growth increments
   GrowthStep growth_step = GrowthStep::probe;
+  // The renewed growth step in units of critical_fraction x the bed's critical step; above 1 the
+  // bodies that need it are density scaled to take it, renewed at every check, as the settling's
+  // (docs/samples.md, "Time step"). A probe step takes 1 only.
+  double growth_step_factor = 1;
   double growth_friction_factor = 1;  // ballast friction (and rolling) factor while growing
   int orientation_trials = 16;        // random orientations tried per clump (clump_fitting.h)
   double preparation_damping = 0.3;   // normal dashpot ratio while converting (section_model.h)

@@ -814,9 +814,9 @@ double Simulation::critical_timestep() const {
   return dt;
 }
 
-double Simulation::scale_density_for_step(double dt, double fraction) {
+double Simulation::scale_density_for_step(double dt, double fraction, bool within_skin) {
   // sqrt(s m / k) = sqrt(s) t_b: the body's step is fraction sqrt(s) t_b >= dt.
-  const std::vector<double> steps = body_critical_steps();
+  const std::vector<double> steps = body_critical_steps(within_skin);
   inertia_scale_.assign(steps.size(), 1.0);
   double largest = 1;
   for (std::size_t b = 0; b < steps.size(); ++b) {
@@ -827,7 +827,7 @@ double Simulation::scale_density_for_step(double dt, double fraction) {
   return largest;
 }
 
-std::vector<double> Simulation::body_critical_steps() const {
+std::vector<double> Simulation::body_critical_steps(bool within_skin) const {
   // Stiffness per body and DOF, summed over its contacts with K = k_n n n^T + k_s (I - n n^T):
   // translation along e_a: e_a^T K e_a; rotation about e_a: u^T K u with u = e_a x lever (the
   // contact point's displacement per unit rotation), plus the rolling stiffness k_s R_eff^2.
@@ -847,7 +847,7 @@ std::vector<double> Simulation::body_critical_steps() const {
     for (int k = list_.offsets[i]; k < list_.offsets[i + 1]; ++k) {
       const int j = list_.partners[k];
       const Vec3 d = p_.pos[j] - p_.pos[i];
-      if (d.norm() >= p_.radius[i] + p_.radius[j]) continue;
+      if (!within_skin && d.norm() >= p_.radius[i] + p_.radius[j]) continue;
       const Vec3 n = d.normalized();
       const ContactProperties& pr = materials_.pair(p_.material[i], p_.material[j]);
       const double reff = p_.radius[i] * p_.radius[j] / (p_.radius[i] + p_.radius[j]);

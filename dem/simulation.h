@@ -121,11 +121,13 @@ class Simulation {
   // Density scaling (PFC's, for quasi-static runs; docs/theory.md, "Density scaling"): the mass
   // and inertia with which every body accelerates become s_b times its own, with s_b the smallest
   // factor >= 1 that makes `dt` at most `fraction` of the body's critical step with its current
-  // contacts; then the step is set to `dt`. Gravity and the unbalanced force ratio keep the true
-  // masses, so a static equilibrium is that of the unscaled model; the motion towards it is not
-  // physical, nor is the energy budget. Call again as contacts change; end_density_scaling()
-  // returns to the true inertia. Returns the largest factor.
-  double scale_density_for_step(double dt, double fraction);
+  // contacts (`within_skin`: with every element pair of the neighbour list as if touching, the
+  // contacts it may make before the list is built again); then the step is set to `dt`. Gravity
+  // and the unbalanced force ratio keep the true masses, so a static equilibrium is that of the
+  // unscaled model; the motion towards it is not physical, nor is the energy budget. Call again
+  // as contacts change; end_density_scaling() returns to the true inertia. Returns the largest
+  // factor.
+  double scale_density_for_step(double dt, double fraction, bool within_skin = false);
   void end_density_scaling() { inertia_scale_.clear(); }
   bool density_scaled() const { return !inertia_scale_.empty(); }
   EnergyBudget energy() const;
@@ -213,7 +215,7 @@ class Simulation {
   void visit_mesh_contacts(Visitor&& visit) const;
   // Per body, the smallest of sqrt(m/k) and sqrt(I/k_rot) over its degrees of freedom, with
   // its true mass and inertia (critical_timestep()).
-  std::vector<double> body_critical_steps() const;
+  std::vector<double> body_critical_steps(bool within_skin = false) const;
   double inertia_scale(int b) const { return inertia_scale_.empty() ? 1.0 : inertia_scale_[b]; }
   [[noreturn]] void runaway(int ei, int ej, double ratio, const std::string& other) const;
   bool consistent_lists(const EngineState& s, std::size_t nwalls) const;

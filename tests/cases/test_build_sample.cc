@@ -291,18 +291,17 @@ void BuildSample::check_resumed_conversion(const fs::path& base) {
   EXPECT_EQ(read_sample((out / "sample.h5").string()).info_value("conversion/growth step"),
             "renewed");
   fs::rename(out, whole);
-  stop_and_resume(prm, growth_steps / 2, out, whole, "clump growth stage at step");
-  fs::remove_all(out);
   stop_and_resume(prm, growth_steps + 2001, out, whole, "equilibrium stage at step");
   fs::remove_all(out);
 
   // The settling split in two: densified without the clumps' rolling resistance to a ratio of
-  // 0.1, then settled with the ballast's to 0.05 (the growth as above, bit for bit). Stopped in
-  // either stage, resumed, the same sample; it records what the clumps settled with.
+  // 0.1, then settled with the ballast's to 0.05; the growth density scaled to three times its
+  // renewed step. Stopped in any of the three stages, resumed, the same sample; it records what
+  // the clumps grew and settled with.
   fs::remove_all(whole);
   prm = sample_file("  set checkpoint interval = 0.001\n",
-                    "  set growth step = renewed\n  set settling step factor = 3\n"
-                    "  set densification ratio = 0.1\n");
+                    "  set growth step = renewed\n  set growth step factor = 3\n"
+                    "  set settling step factor = 3\n  set densification ratio = 0.1\n");
   ASSERT_EQ(run("build-sample " + prm.string()).code, 0);
   const std::string split = slurp(out / "summary.json");
   std::smatch dense;
@@ -310,18 +309,24 @@ void BuildSample::check_resumed_conversion(const fs::path& base) {
       split, dense,
       std::regex("\"clump growth\", \"steps\": (\\d+)[\\s\\S]*\"densification\", "
                  "\"steps\": (\\d+)[\\s\\S]*\"equilibrium\", \"steps\": (\\d+)")));
-  EXPECT_EQ(std::stol(dense[1]), growth_steps);
+  // Three times the step over the same growth time: about a third of the steps (the bed's own
+  // step changes as it grows differently).
+  const long scaled_growth_steps = std::stol(dense[1]);
+  EXPECT_LT(scaled_growth_steps, growth_steps / 2);
   const long densification_steps = std::stol(dense[2]);
   EXPECT_GT(densification_steps, 0);
   EXPECT_GT(std::stol(dense[3]), 0);
   const Sample settled = read_sample((out / "sample.h5").string());
   EXPECT_EQ(settled.info_value("conversion/clump rolling friction"), "0.3");
   EXPECT_EQ(settled.info_value("conversion/densification ratio"), "0.1");
+  EXPECT_EQ(settled.info_value("conversion/growth step factor"), "3");
   fs::rename(out, whole);
-  stop_and_resume(prm, growth_steps + densification_steps / 2, out, whole,
+  stop_and_resume(prm, scaled_growth_steps / 2, out, whole, "clump growth stage at step");
+  fs::remove_all(out);
+  stop_and_resume(prm, scaled_growth_steps + densification_steps / 2, out, whole,
                   "densification stage at step");
   fs::remove_all(out);
-  stop_and_resume(prm, growth_steps + densification_steps + 501, out, whole,
+  stop_and_resume(prm, scaled_growth_steps + densification_steps + 501, out, whole,
                   "equilibrium stage at step");
   fs::remove_all(out);
   // A densification ratio at or below the equilibrium's would end no sooner: refused.
@@ -330,6 +335,11 @@ void BuildSample::check_resumed_conversion(const fs::path& base) {
   expect_error(run("build-sample " + prm.string()),
                {"resumable.prm: zone/densification ratio = 0.05",
                 "not above zone/equilibrium ratio = 0.05"});
+  // A growth step factor needs a step to multiply that is renewed (the probe's is fixed).
+  std::ofstream(prm) << split_prm << "subsection zone\n  set growth step = probe\nend\n";
+  expect_error(run("build-sample " + prm.string()),
+               {"resumable.prm: zone/growth step factor = 3", "growth step = probe",
+                "valid: 1, or growth step = renewed"});
 }
 
 void BuildSample::check_case_loading(const fs::path& base) {

@@ -145,5 +145,35 @@ TEST(StaticEquilibrium, DensityScaledColumnRestsWhereTheUnscaledOneRests) {
   EXPECT_THROW(scaled.set_time_step(dt), InputError);
 }
 
+// Scaled for the neighbours within the skin (a clump conversion's growth), a ball is scaled as if
+// it touched them: a row of three balls 1 mm apart (within the 4 mm skin) gets the factors the
+// same row touching gets for its contacts, and larger ones than for its contacts, none, alone.
+TEST(StaticEquilibrium, DensityScaledWithinSkinCountsTheNeighboursAsContacts) {
+  auto row = [](double gap) {
+    MaterialTable t;
+    t.add(damped_ballast());
+    Particles p;
+    const double r = 0.02;
+    for (int i = 0; i < 3; ++i) p.add_ball(Vec3(i * (2 * r + gap), 0, 0.5), r, 0, 2800, i);
+    SimulationSettings s;
+    s.time_step = 1e-6;
+    Simulation sim(std::move(t), std::move(p), s);
+    sim.setup();
+    return sim;
+  };
+  Simulation apart = row(0.001);
+  Simulation touching = row(-1e-9);
+  const double fraction = 0.8;
+  // The middle ball touching two: its step sqrt(2) or more below a free ball's.
+  const double dt = 3 * fraction * touching.critical_timestep();
+  const double by_contacts = touching.scale_density_for_step(dt, fraction);
+  EXPECT_GT(by_contacts, 1);
+  EXPECT_NEAR(apart.scale_density_for_step(dt, fraction, true), by_contacts, 1e-9 * by_contacts);
+  EXPECT_GE(fraction * apart.critical_timestep(), dt * (1 - 1e-12));
+  // By its contacts alone the middle ball is free (one contact's stiffness, no rolling spring):
+  // 0.4 of the factor (its rotation governs: I / k_rot = 0.16 m / k_s against 0.4 m / k_s).
+  EXPECT_NEAR(apart.scale_density_for_step(dt, fraction), 0.4 * by_contacts, 1e-9 * by_contacts);
+}
+
 }  // namespace
 }  // namespace trackbed::dem
