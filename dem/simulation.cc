@@ -843,11 +843,17 @@ std::vector<double> Simulation::body_critical_steps(bool within_skin) const {
                   (pr.has_rolling() ? pr.ks * r * r : 0.0);
     }
   };
+  // Whether a body touches anything now: one that does not gets the free-body contact below, in
+  // both ways of counting, so that the within-skin count never has fewer springs than the count
+  // a step is checked with (its neighbours' levers may be shorter than the free-body rule's).
+  std::vector<char> touches(nb, 0);
   for (int i = 0; i < p_.num_elements(); ++i)
     for (int k = list_.offsets[i]; k < list_.offsets[i + 1]; ++k) {
       const int j = list_.partners[k];
       const Vec3 d = p_.pos[j] - p_.pos[i];
-      if (!within_skin && d.norm() >= p_.radius[i] + p_.radius[j]) continue;
+      const bool touching = d.norm() < p_.radius[i] + p_.radius[j];
+      if (!touching && !within_skin) continue;
+      if (touching) touches[p_.body[i]] = touches[p_.body[j]] = 1;
       const Vec3 n = d.normalized();
       const ContactProperties& pr = materials_.pair(p_.material[i], p_.material[j]);
       const double reff = p_.radius[i] * p_.radius[j] / (p_.radius[i] + p_.radius[j]);
@@ -858,21 +864,23 @@ std::vector<double> Simulation::body_critical_steps(bool within_skin) const {
     for (int e : plane_history_[w].element) {
       if (planes_[w].distance(p_.pos[e]) >= p_.radius[e]) continue;
       const ContactProperties& pr = materials_.pair(planes_[w].material, p_.material[e]);
+      touches[p_.body[e]] = 1;
       add(p_.body[e], pr, planes_[w].normal,
           p_.pos[e] - planes_[w].normal * p_.radius[e] - p_.x[p_.body[e]], p_.radius[e]);
     }
   visit_mesh_contacts([&](int m, int, int e, const MeshContactPoint& pt, int) {
+    touches[p_.body[e]] = 1;
     add(p_.body[e], materials_.pair(meshes_[m].material, p_.material[e]), pt.normal,
         pt.point - p_.x[p_.body[e]], p_.radius[e]);
   });
   std::vector<double> steps(nb);
   for (int b = 0; b < nb; ++b) {
-    if (kt[b].maxCoeff() == 0) {
+    if (!touches[b]) {
       // A body touching nothing yet: one contact with its own material, its first touch.
       const int e = p_.first_element[b];
       const ContactProperties& pr = materials_.pair(p_.material[e], p_.material[e]);
-      kt[b].setConstant(std::max(pr.kn, pr.ks));
-      kr[b].setConstant(pr.ks * std::pow((p_.pos[e] - p_.x[b]).norm() + p_.radius[e], 2));
+      kt[b].array() += std::max(pr.kn, pr.ks);
+      kr[b].array() += pr.ks * std::pow((p_.pos[e] - p_.x[b]).norm() + p_.radius[e], 2);
     }
     steps[b] = std::sqrt(p_.mass[b] / kt[b].maxCoeff());
     if (kr[b].maxCoeff() > 0)

@@ -147,7 +147,8 @@ TEST(StaticEquilibrium, DensityScaledColumnRestsWhereTheUnscaledOneRests) {
 
 // Scaled for the neighbours within the skin (a clump conversion's growth), a ball is scaled as if
 // it touched them: a row of three balls 1 mm apart (within the 4 mm skin) gets the factors the
-// same row touching gets for its contacts, and larger ones than for its contacts, none, alone.
+// same row touching gets for its contacts, with the free-body contact of a ball that touches
+// nothing besides, and larger ones than for its contacts, none, alone.
 TEST(StaticEquilibrium, DensityScaledWithinSkinCountsTheNeighboursAsContacts) {
   auto row = [](double gap) {
     MaterialTable t;
@@ -168,11 +169,43 @@ TEST(StaticEquilibrium, DensityScaledWithinSkinCountsTheNeighboursAsContacts) {
   const double dt = 3 * fraction * touching.critical_timestep();
   const double by_contacts = touching.scale_density_for_step(dt, fraction);
   EXPECT_GT(by_contacts, 1);
-  EXPECT_NEAR(apart.scale_density_for_step(dt, fraction, true), by_contacts, 1e-9 * by_contacts);
+  // The middle ball's rotation governs (I = 0.4 m r^2): touching two, k_rot = 2 x 1.25 k_s r^2
+  // (the shear springs' k_s r^2 and the rolling spring's k_s r^2 / 4); apart, within the skin, the
+  // free-body contact's k_s r^2 more: 3.5 against 2.5.
+  EXPECT_NEAR(apart.scale_density_for_step(dt, fraction, true), 1.4 * by_contacts,
+              1e-9 * by_contacts);
   EXPECT_GE(fraction * apart.critical_timestep(), dt * (1 - 1e-12));
   // By its contacts alone the middle ball is free (one contact's stiffness, no rolling spring):
   // 0.4 of the factor (its rotation governs: I / k_rot = 0.16 m / k_s against 0.4 m / k_s).
   EXPECT_NEAR(apart.scale_density_for_step(dt, fraction), 0.4 * by_contacts, 1e-9 * by_contacts);
+}
+
+// A body that touches nothing is estimated as if it had its first contact at its first
+// element's far side (theory.md, free-body rule); within the skin it is estimated with that
+// contact and its neighbours' besides, never with fewer springs than it is checked with. Here a
+// rod of three pebbles, touching nothing, and a ball 1 mm above its middle pebble: that
+// neighbour's lever is a third of the free-body rule's, and scaled for it alone the rod's
+// rotation would be scaled too little for the step the model then checks (a scaled-down
+// conversion growing at three times its step stopped so at its first renewal).
+TEST(StaticEquilibrium, DensityScaledWithinSkinKeepsTheFreeBodyContact) {
+  MaterialTable t;
+  t.add(damped_ballast());
+  Particles p;
+  const double r = 0.02, a = 0.04, density = 2800;
+  const double pebble = density * 4.0 / 3.0 * M_PI * r * r * r;
+  const Vec3 inertia(3 * 0.4 * pebble * r * r, 3 * 0.4 * pebble * r * r + 2 * pebble * a * a,
+                     3 * 0.4 * pebble * r * r + 2 * pebble * a * a);
+  p.add_body_with_elements(Vec3(0, 0, 0.5), Quat::Identity(), 3 * pebble, inertia, 0, true, 0,
+                           {{Vec3(-a, 0, 0), r}, {Vec3(0, 0, 0), r}, {Vec3(a, 0, 0), r}});
+  p.add_ball(Vec3(0, 0, 0.5 + 2 * r + 0.001), r, 0, density, 1);
+  SimulationSettings s;
+  s.time_step = 1e-6;
+  Simulation sim(std::move(t), std::move(p), s);
+  sim.setup();
+  const double fraction = 0.8;
+  const double dt = 3 * fraction * sim.critical_timestep();
+  EXPECT_NO_THROW(sim.scale_density_for_step(dt, fraction, true));
+  EXPECT_GE(fraction * sim.critical_timestep(), dt * (1 - 1e-12));
 }
 
 }  // namespace
