@@ -8,7 +8,7 @@
 //
 // Use:
 //   ElasticBody body(2, MPI_COMM_WORLD);
-//   body.make_track_section(section);       // or make_box, make_sleeper, read_gmsh
+//   body.make_track_section(section, h);      // or make_box, make_sleeper, read_gmsh
 //   body.set_material(track_section::subgrade_id, subgrade_fill());   // every id in the mesh
 //   body.fix(body.boundary_id("bottom"));
 //   body.setup();                            // dofs, stiffness matrix, AMG: once per mesh
@@ -91,7 +91,9 @@ class ElasticBody {
 
   // --- Geometry (one of these, then optionally refine_globally and mark_boundary) ---
   void make_box(const BoxGeometry& box);
-  void make_track_section(const TrackSection& section);
+  // The continuum tier of `section` (its layers below the formation z = 0), coarse cells of about
+  // element_size m (twice that outside the embankment).
+  void make_track_section(const TrackSection& section, double element_size);
   void make_sleeper(const SleeperGeometry& sleeper);
   // An ASCII Gmsh mesh (format 2.2 or 4.1) of hexahedra: volume physical groups become material
   // ids, surface physical groups boundary ids, and their names boundary names.

@@ -1,18 +1,15 @@
 // The exceptions of the continuum tier. Their messages are the single line a user sees: what is
-// wrong, where (file, parameter, material or boundary), and what would be valid.
+// wrong, where (file, parameter, material or boundary), and what would be valid. Bad input (a
+// missing or malformed mesh, an unknown material or boundary id, a non-physical parameter) is
+// trackbed's one InputError, as in every other part.
 #pragma once
 
 #include <stdexcept>
 #include <string>
 
-namespace trackbed::fem {
+#include "common/input_error.h"
 
-// Bad input: a missing or malformed mesh, an unknown material or boundary id, a non-physical
-// parameter.
-class InputError : public std::runtime_error {
- public:
-  explicit InputError(const std::string& message) : std::runtime_error(message) {}
-};
+namespace trackbed::fem {
 
 // A linear solver that did not reach its tolerance.
 class SolverError : public std::runtime_error {

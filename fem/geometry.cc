@@ -107,22 +107,22 @@ void ElasticBody::make_box(const BoxGeometry& box) {
 // embankment: at height z their nodes sit at x = xi b(z), xi in [-1, 1], where b(z) is the layer's
 // half-width, so the outer columns follow the slopes. Outer columns exist only in the ground
 // block. The section is extruded along y.
-void ElasticBody::make_track_section(const TrackSection& s) {
+void ElasticBody::make_track_section(const TrackSection& s, const double element_size) {
   Impl& d = *impl_;
   const std::string where = "track section";
   for (const auto& [name, value] : std::vector<std::pair<std::string, double>>{
            {"sleeper length", s.sleeper_length},
-           {"section length", s.section_length},
+           {"section length", s.length},
            {"sub-ballast thickness", s.sub_ballast_thickness},
            {"embankment height", s.embankment_height},
            {"ground depth", s.ground_depth},
-           {"element size", s.element_size}})
+           {"element size", element_size}})
     require_positive(where, name, value);
-  if (s.lower_ballast_thickness < 0.0 || s.shoulder_width < 0.0 || s.ballast_depth < 0.0 ||
-      s.sleeper_height < 0.0 || s.shoulder_slope < 0.0 || s.embankment_slope < 0.0)
+  if (s.lower_ballast_thickness < 0.0 || s.shoulder_width < 0.0 || s.depth_under_sleeper < 0.0 ||
+      s.sleeper_height < 0.0 || s.slope < 0.0 || s.embankment_slope < 0.0)
     throw InputError(where + ": thicknesses, widths and slopes must be >= 0");
 
-  const double h = s.element_size;
+  const double h = element_size;
   // Rows: z levels from the bottom up, with the layer (material id) of each row.
   const double z_lower_ballast = -s.lower_ballast_thickness;
   const double z_sub_ballast = z_lower_ballast - s.sub_ballast_thickness;
@@ -145,10 +145,10 @@ void ElasticBody::make_track_section(const TrackSection& s) {
   if (s.lower_ballast_thickness > 0.0) add_layer(0.0, track_section::lower_ballast_id);
 
   // Half-width of the continuum at height z >= z_ground.
-  const double b0 = s.formation_half_width();
-  const double b1 = b0 + s.lower_ballast_thickness * s.shoulder_slope;
+  const double b0 = s.half_base_width();
+  const double b1 = b0 + s.lower_ballast_thickness * s.slope;
   auto half_width = [&](const double z) {
-    return z >= z_lower_ballast ? b0 - z * s.shoulder_slope
+    return z >= z_lower_ballast ? b0 - z * s.slope
                                 : b1 + (z_lower_ballast - z) * s.embankment_slope;
   };
   const double b_ground = half_width(z_ground);
@@ -160,7 +160,7 @@ void ElasticBody::make_track_section(const TrackSection& s) {
   const unsigned int n_outer = count(s.ground_half_width - b_ground, 2.0 * h);
   const unsigned int nx = n_inner + 2 * n_outer;  // columns of cells
   const unsigned int nz = z_levels.size() - 1;
-  const unsigned int ny = count(s.section_length, h);
+  const unsigned int ny = count(s.length, h);
 
   auto x_of = [&](const unsigned int ix, const unsigned int iz) {
     const double z = z_levels[iz];
@@ -178,7 +178,7 @@ void ElasticBody::make_track_section(const TrackSection& s) {
     for (unsigned int iy = 0; iy <= ny; ++iy)
       for (unsigned int ix = 0; ix <= nx; ++ix)
         vertices[vertex(ix, iy, iz)] =
-            Point<dim>(x_of(ix, iz), s.section_length * iy / ny, z_levels[iz]);
+            Point<dim>(x_of(ix, iz), s.length * (double(iy) / ny - 0.5), z_levels[iz]);
   std::vector<CellData<dim>> cells;
   for (unsigned int iz = 0; iz < nz; ++iz)
     for (unsigned int iy = 0; iy < ny; ++iy)
@@ -205,7 +205,7 @@ void ElasticBody::make_track_section(const TrackSection& s) {
       const Point<dim> c = face->center();
       if (std::abs(c[2]) < tolerance)
         face->set_boundary_id(0);
-      else if (std::abs(c[1]) < tolerance || std::abs(c[1] - s.section_length) < tolerance)
+      else if (std::abs(std::abs(c[1]) - 0.5 * s.length) < tolerance)
         face->set_boundary_id(2);
       else if (std::abs(std::abs(c[0]) - s.ground_half_width) < tolerance)
         face->set_boundary_id(3);

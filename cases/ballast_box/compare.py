@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Compares the ballast box test of the three shapes with the paper (seed-facts.md, Table 1).
+"""Compares the ballast box test of the three shapes with the paper (the paper, Table 1).
 
 Usage: compare.py RESULTS_DIR   (results/ballast_box or results/ballast_box/small)
 Reads RESULTS_DIR/<model>/push.csv and summary.json for the models that have run; writes
@@ -8,7 +8,7 @@ comparison.json and comparison.md (contacts and largest contact forces beside Ta
 import os
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "reports"))
 import study_comparison as sc  # noqa: E402
 
 # model folder, label, the paper's total contacts, max particle-particle and particle-sleeper

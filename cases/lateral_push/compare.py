@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Compares the five lateral push models of one size with the paper (seed-facts.md, Table 3).
+"""Compares the five lateral push models of one size with the paper (the paper, Table 3).
 
 Usage: compare.py RESULTS_DIR   (results/lateral_push or results/lateral_push/small)
 Reads RESULTS_DIR/<model>/push.csv and summary.json for the models that have run; writes
@@ -8,7 +8,7 @@ comparison.json and comparison.md (a table beside the paper's figures)."""
 import os
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "reports"))
 import study_comparison as sc  # noqa: E402
 
 # model folder, label, the paper's elements, wall time (s), peak (kN), max contact force (kN)

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Is a push quasi-static? Compares the same push run at two velocities (docs/validation.md,
-"Push velocity: quasi-static"): the issue's measure is the peak, which halving the velocity must
+"Push velocity: quasi-static"): the measure is the peak, which halving the velocity must
 move by less than 5 %; the curve's other points say whether the whole curve moved.
 
 Usage: velocity_check.py SLOW_DIR FAST_DIR   (results folders of the two runs, e.g.

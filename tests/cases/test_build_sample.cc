@@ -8,11 +8,11 @@
 #include <sstream>
 
 #include "cli_fixture.h"
-#include "dem/csv_table.h"
-#include "dem/mass_properties.h"
-#include "dem/sample.h"
-#include "dem/section_model.h"
-#include "dem/zone.h"
+#include "dem/io/csv_table.h"
+#include "dem/engine/mass_properties.h"
+#include "dem/io/sample.h"
+#include "dem/samples/section_model.h"
+#include "dem/samples/zone.h"
 
 namespace {
 
@@ -108,7 +108,7 @@ void BuildSample::check_ball_sample(const fs::path& out) {
   for (const auto& e : fs::recursive_directory_iterator(out))
     EXPECT_EQ(e.path().string().find(".part"), std::string::npos) << e.path();
   const Sample s = read_sample((out / "sample.h5").string());
-  const TrackSection section = section_of(s);
+  const trackbed::TrackSection section = section_of(s);
   EXPECT_DOUBLE_EQ(section.sleeper_length, 0.4);
   ASSERT_GT(s.particles.num_bodies(), 200);
   EXPECT_EQ(s.particles.num_clumps(), 0);
@@ -416,7 +416,7 @@ TEST_F(BuildSample, SleeperSeatedInTheMouldStaysWhereItWasSeated) {
   // Trimmed to the profile all the same.
   const Sample s = read_sample((out / "sample.h5").string());
   EXPECT_EQ(s.info_value("build/mould seating sleeper"), "free");
-  const TrackSection section = section_of(s);
+  const trackbed::TrackSection section = section_of(s);
   for (int b = 0; b < s.particles.num_bodies(); ++b) {
     const Vec3& x = s.particles.x[b];
     EXPECT_LE(std::abs(x.x()), section.half_base_width() - section.slope * x.z() + 0.02)

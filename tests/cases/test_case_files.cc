@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "cases/case_parameters.h"
-#include "cases/sample_parameters.h"
-#include "dem/input_error.h"
+#include "cases/parameters/case_parameters.h"
+#include "cases/parameters/sample_parameters.h"
+#include "common/input_error.h"
 
 namespace fs = std::filesystem;
 
@@ -74,7 +74,7 @@ TEST(CaseFiles, EveryShippedFileIsRead) {
         read_case_file(f.string());
         ++cases;
       }
-    } catch (const trackbed::dem::InputError& e) {
+    } catch (const trackbed::InputError& e) {
       if (is_sample_file(f) && waits_for_pilot_run(e.what()))
         ++pilots;
       else

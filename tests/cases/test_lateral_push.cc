@@ -4,7 +4,7 @@
 // figures (tests/cases/reference/lateral_push_small.csv), and the five peaks against one another.
 #include <cmath>
 
-#include "dem/csv_table.h"
+#include "dem/io/csv_table.h"
 #include "study_fixture.h"
 
 namespace {
@@ -113,7 +113,7 @@ TEST_F(LateralPush, FreeHold) {
   EXPECT_NEAR(summary_number(free, "mean_vertical_load_over_weight"), 1.0, 0.02);
 }
 
-// The paper's ordering of the peaks (seed-facts.md, Table 3) where it holds on the small bed with a
+// The paper's ordering of the peaks (the paper, Table 3) where it holds on the small bed with a
 // margin beyond the scatter between realisations of its samples (the reference's peak moved 11 %
 // between two, docs/validation.md#scaled-down-variant). Measured with the clumps' rolling
 // friction (2026-12-05), as ratios to the reference: balls with rolling resistance 1.27 (the paper

@@ -1,7 +1,7 @@
 // A flat triangulated square grid, shared by the mesh geometry and mesh contact tests.
 #pragma once
 
-#include "dem/triangle_mesh.h"
+#include "dem/engine/triangle_mesh.h"
 
 namespace trackbed::dem::testing {
 

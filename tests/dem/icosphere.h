@@ -5,7 +5,7 @@
 #include <map>
 #include <utility>
 
-#include "dem/triangle_mesh.h"
+#include "dem/engine/triangle_mesh.h"
 
 namespace trackbed::dem::testing {
 

@@ -6,7 +6,7 @@
 
 #include <string>
 
-#include "dem/input_error.h"
+#include "common/input_error.h"
 
 namespace trackbed::dem::testing {
 

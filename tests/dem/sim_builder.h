@@ -3,7 +3,7 @@
 
 #include <utility>
 
-#include "dem/simulation.h"
+#include "dem/engine/simulation.h"
 
 namespace trackbed::dem::testing {
 

@@ -1,14 +1,14 @@
-// Ballast stones and shape indices (dem/ballast_stone.h): exact indices of boxes and a
+// Ballast stones and shape indices (dem/samples/ballast_stone.h): exact indices of boxes and a
 // tetrahedron, and the statistics of generated stones against the ranges in docs/templates.md.
-#include "dem/ballast_stone.h"
+#include "dem/samples/ballast_stone.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
-#include "dem/closed_surface.h"
-#include "dem/input_error.h"
+#include "dem/samples/closed_surface.h"
+#include "common/input_error.h"
 #include "icosphere.h"
 
 namespace trackbed::dem {

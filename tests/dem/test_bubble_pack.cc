@@ -1,6 +1,9 @@
-// Bubble packing (dem/bubble_pack.h): a sphere gives one pebble, boxes respond to Distance and
+// Bubble packing (dem/samples/bubble_pack.h): a sphere gives one pebble, boxes respond to Distance and
 // Ratio as documented, pebbles stay inside, mass properties come from the chosen source.
-#include "dem/bubble_pack.h"
+#include "common/input_error.h"
+#include "dem/engine/mesh_contact.h"
+#include "dem/samples/ballast_stone.h"
+#include "dem/samples/bubble_pack.h"
 
 #include <gtest/gtest.h>
 
@@ -8,8 +11,6 @@
 #include <string>
 #include <vector>
 
-#include "dem/ballast_stone.h"
-#include "dem/input_error.h"
 #include "icosphere.h"
 
 namespace trackbed::dem {

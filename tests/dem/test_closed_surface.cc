@@ -1,6 +1,8 @@
-// Closed surfaces (dem/closed_surface.h): the surfaces refused and their messages, the
+// Closed surfaces (dem/samples/closed_surface.h): the surfaces refused and their messages, the
 // self-intersection search on a large mesh, and the signed distance.
-#include "dem/closed_surface.h"
+#include "common/input_error.h"
+#include "dem/engine/mesh_contact.h"
+#include "dem/samples/closed_surface.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -10,7 +12,6 @@
 #include <random>
 #include <string>
 
-#include "dem/input_error.h"
 #include "icosphere.h"
 #include "input_error_message.h"
 

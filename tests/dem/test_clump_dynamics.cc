@@ -4,8 +4,8 @@
 
 #include <random>
 
-#include "dem/clump_template.h"
-#include "dem/rigid_rotation.h"
+#include "dem/engine/clump_template.h"
+#include "dem/engine/rigid_rotation.h"
 #include "sim_builder.h"
 
 namespace trackbed::dem {

@@ -8,8 +8,9 @@
 
 #include <gtest/gtest.h>
 
-#include "dem/clump_template.h"
-#include "dem/input_error.h"
+#include "common/input_error.h"
+#include "dem/engine/clump_template.h"
+#include "dem/io/clump_template_file.h"
 
 namespace trackbed::dem {
 namespace {

@@ -6,7 +6,7 @@
 
 #include <random>
 
-#include "dem/random_packing.h"
+#include "dem/samples/random_packing.h"
 #include "sim_builder.h"
 
 namespace trackbed::dem {

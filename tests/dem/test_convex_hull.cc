@@ -1,5 +1,5 @@
-// Convex hulls (dem/convex_hull.h): exact polyhedra, degenerate point sets, random points.
-#include "dem/convex_hull.h"
+// Convex hulls (dem/samples/convex_hull.h): exact polyhedra, degenerate point sets, random points.
+#include "dem/samples/convex_hull.h"
 
 #include <gtest/gtest.h>
 
@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "dem/input_error.h"
+#include "common/input_error.h"
 
 namespace trackbed::dem {
 namespace {

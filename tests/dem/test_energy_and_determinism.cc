@@ -5,10 +5,10 @@
 
 #include <cstring>
 
-#include "dem/clump_template.h"
-#include "dem/mesh_body.h"
-#include "dem/random_packing.h"
-#include "dem/triangle_mesh.h"
+#include "dem/engine/clump_template.h"
+#include "dem/engine/mesh_body.h"
+#include "dem/samples/random_packing.h"
+#include "dem/engine/triangle_mesh.h"
 #include "sim_builder.h"
 
 namespace trackbed::dem {

@@ -1,4 +1,4 @@
-// The complete state of a model (dem/engine_state.h): saved to HDF5 and restored into a model
+// The complete state of a model (dem/io/engine_state.h): saved to HDF5 and restored into a model
 // built from the same input, the model steps on bit for bit as the original; a state of another
 // model is refused with one line.
 #include <gtest/gtest.h>
@@ -6,12 +6,12 @@
 
 #include <filesystem>
 
-#include "dem/clump_template.h"
-#include "dem/engine_state.h"
-#include "dem/hdf5_io.h"
-#include "dem/input_error.h"
-#include "dem/random_packing.h"
-#include "dem/triangle_mesh.h"
+#include "dem/engine/clump_template.h"
+#include "dem/io/engine_state.h"
+#include "dem/io/hdf5_io.h"
+#include "common/input_error.h"
+#include "dem/samples/random_packing.h"
+#include "dem/engine/triangle_mesh.h"
 #include "sim_builder.h"
 
 namespace trackbed::dem {

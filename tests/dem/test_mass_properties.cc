@@ -8,8 +8,8 @@
 
 #include <gtest/gtest.h>
 
-#include "dem/input_error.h"
-#include "dem/mass_properties.h"
+#include "common/input_error.h"
+#include "dem/engine/mass_properties.h"
 #include "input_error_message.h"
 
 namespace trackbed::dem {

@@ -2,7 +2,7 @@
 // inside a face, across a shared edge, on vertices where four or eight triangles meet.
 #include <gtest/gtest.h>
 
-#include "dem/mesh_body.h"
+#include "dem/engine/mesh_body.h"
 #include "flat_grid.h"
 #include "sim_builder.h"
 

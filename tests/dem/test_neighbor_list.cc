@@ -1,10 +1,10 @@
-// The Verlet neighbour list (dem/neighbor_list.h): the pairs it holds, and the split of its rows
+// The Verlet neighbour list (dem/engine/neighbor_list.h): the pairs it holds, and the split of its rows
 // among threads by work (NeighborList::balanced_ranges).
 #include <gtest/gtest.h>
 
 #include <vector>
 
-#include "dem/neighbor_list.h"
+#include "dem/engine/neighbor_list.h"
 
 namespace trackbed::dem {
 namespace {

@@ -5,9 +5,10 @@
 #include <filesystem>
 #include <fstream>
 
-#include "dem/clump_template.h"
-#include "dem/particle_file.h"
-#include "dem/snapshot.h"
+#include "dem/engine/clump_template.h"
+#include "dem/io/clump_template_file.h"
+#include "dem/io/particle_file.h"
+#include "dem/io/snapshot.h"
 #include "sim_builder.h"
 
 namespace trackbed::dem {

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <random>
 
-#include "dem/input_error.h"
-#include "dem/porosity.h"
-#include "dem/random_packing.h"
+#include "common/input_error.h"
+#include "dem/samples/porosity.h"
+#include "dem/samples/random_packing.h"
 
 namespace trackbed::dem {
 namespace {

@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "dem/input_error.h"
-#include "dem/sample.h"
-#include "dem/snapshot.h"
+#include "common/input_error.h"
+#include "dem/io/sample.h"
+#include "dem/io/snapshot.h"
 #include "sim_builder.h"
 
 namespace trackbed::dem {

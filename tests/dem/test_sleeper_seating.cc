@@ -4,9 +4,9 @@
 // seated sleeper gets its support (sleeper_support).
 #include <gtest/gtest.h>
 
-#include "dem/mesh_body.h"
-#include "dem/section_model.h"
-#include "dem/sleeper_support.h"
+#include "dem/engine/mesh_body.h"
+#include "dem/samples/section_model.h"
+#include "dem/engine/sleeper_support.h"
 #include "sim_builder.h"
 
 namespace trackbed::dem {

@@ -3,7 +3,7 @@
 
 #include <algorithm>
 
-#include "dem/random_packing.h"
+#include "dem/samples/random_packing.h"
 #include "sim_builder.h"
 
 namespace trackbed::dem {

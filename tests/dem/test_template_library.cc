@@ -1,6 +1,6 @@
-// The shipped template library (dem/template_library.h, cases/templates/ballast/): it loads with
+// The shipped template library (dem/samples/template_library.h, cases/templates/ballast/): it loads with
 // both mass sources, its manifest matches a fresh computation, and bad manifests are refused.
-#include "dem/template_library.h"
+#include "dem/samples/template_library.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "dem/closed_surface.h"
-#include "dem/csv_table.h"
-#include "dem/input_error.h"
+#include "dem/samples/closed_surface.h"
+#include "dem/io/csv_table.h"
+#include "common/input_error.h"
 #include "input_error_message.h"
 
 namespace trackbed::dem {

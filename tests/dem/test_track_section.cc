@@ -5,10 +5,10 @@
 #include <cmath>
 #include <random>
 
-#include "dem/input_error.h"
-#include "dem/section_model.h"
-#include "dem/track_section.h"
-#include "dem/triangle_mesh.h"
+#include "common/input_error.h"
+#include "dem/samples/section_model.h"
+#include "common/track_section.h"
+#include "dem/engine/triangle_mesh.h"
 
 namespace trackbed::dem {
 namespace {

@@ -1,6 +1,9 @@
 // Triangle-mesh walls: STL input, topology, mass properties, closest points, sphere-mesh contacts
-// and the candidate grid (dem/triangle_mesh.h).
-#include "dem/triangle_mesh.h"
+// and the candidate grid (dem/engine/triangle_mesh.h).
+#include "dem/engine/mesh_contact.h"
+#include "dem/engine/triangle_grid.h"
+#include "dem/engine/triangle_mesh.h"
+#include "dem/io/stl_file.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

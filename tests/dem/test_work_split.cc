@@ -1,10 +1,10 @@
-// Shares of a loop by work (dem/work_split.h), the split of the pair loop and of the body update
+// Shares of a loop by work (dem/engine/work_split.h), the split of the pair loop and of the body update
 // among threads.
 #include <gtest/gtest.h>
 
 #include <vector>
 
-#include "dem/work_split.h"
+#include "dem/engine/work_split.h"
 
 namespace trackbed::dem {
 namespace {

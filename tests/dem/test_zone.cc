@@ -9,11 +9,11 @@
 #include <fstream>
 #include <random>
 
-#include "dem/input_error.h"
-#include "dem/pilot_zone.h"
-#include "dem/snapshot.h"
-#include "dem/triangle_mesh.h"
-#include "dem/zone.h"
+#include "common/input_error.h"
+#include "dem/samples/pilot_zone.h"
+#include "dem/io/snapshot.h"
+#include "dem/engine/triangle_mesh.h"
+#include "dem/samples/zone.h"
 #include "sim_builder.h"
 
 namespace trackbed::dem {

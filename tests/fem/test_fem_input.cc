@@ -191,7 +191,7 @@ TEST(FemInput, BadElementDegreeAndGeometry) {
   ElasticBody body(1, MPI_COMM_WORLD);
   TrackSection section;
   section.ground_half_width = 3.0;
-  expect_error<InputError>([&] { body.make_track_section(section); },
+  expect_error<InputError>([&] { body.make_track_section(section, 0.25); },
                            {"'ground half width' = 3", "embankment base"});
   expect_error<InputError>([&] { body.setup(); }, {"no mesh"});
 }

@@ -2,6 +2,7 @@
 // Boussinesq-Love stress under a loaded rectangle, and a sleeper in four-point bending.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "fem/boundary_interface.h"
@@ -260,14 +261,15 @@ TEST(FemStatic, SleeperCantileverMatchesBeamTheory) {
 
 // The track section mesh: the formation under the ballast is 2 b0 wide (b0 from the ballast
 // footprint), the bottom is 2 W wide; both over the section length. Their triangle areas must
-// add up to that exactly (flat faces), and every layer must have its material.
+// add up to that exactly (flat faces), and every layer must have its material. The formation is
+// the DEM bed's base in the one TrackSection frame: |x| <= b0, |y| <= length / 2 at z = 0, to
+// rounding (1e-12 m on coordinates of metres).
 TEST(FemStatic, TrackSectionGeometryAndGravitySolve) {
   TrackSection section;
   section.lower_ballast_thickness = 0.15;
-  section.element_size = 0.5;
   section.ground_depth = 2.0;
   ElasticBody body(1, MPI_COMM_WORLD);
-  body.make_track_section(section);
+  body.make_track_section(section, 0.5);
   body.set_material(track_section::lower_ballast_id, lower_ballast_equivalent());
   body.set_material(track_section::sub_ballast_id, sub_ballast());
   body.set_material(track_section::subgrade_id, subgrade_fill());
@@ -281,16 +283,28 @@ TEST(FemStatic, TrackSectionGeometryAndGravitySolve) {
   EXPECT_GT(report.iterations, 0u);
   double formation = 0.0, bottom = 0.0;
   const BoundaryInterface formation_interface(body, "formation"), bottom_interface(body, "bottom");
+  Vector3 lower{{1e9, 1e9, 1e9}}, upper{{-1e9, -1e9, -1e9}};
   for (const auto& t : formation_interface.triangles()) {
     formation += t.area;
     EXPECT_NEAR(t.normal[2], 1.0, 1e-12);
+    for (const Vector3& v : t.vertices)
+      for (int c = 0; c < 3; ++c) {
+        lower[c] = std::min(lower[c], v[c]);
+        upper[c] = std::max(upper[c], v[c]);
+      }
+  }
+  const Vector3 base_lower{{-section.half_base_width(), -0.5 * section.length, 0.0}};
+  const Vector3 base_upper{{section.half_base_width(), 0.5 * section.length, 0.0}};
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(lower[c], base_lower[c], 1e-12);
+    EXPECT_NEAR(upper[c], base_upper[c], 1e-12);
   }
   for (const auto& t : bottom_interface.triangles()) bottom += t.area;
-  EXPECT_NEAR(formation, 2 * section.formation_half_width() * section.section_length, 1e-10);
-  EXPECT_NEAR(bottom, 2 * section.ground_half_width * section.section_length, 1e-10);
+  EXPECT_NEAR(formation, 2 * section.half_base_width() * section.length, 1e-10);
+  EXPECT_NEAR(bottom, 2 * section.ground_half_width * section.length, 1e-10);
   // Under gravity the formation centre settles, and more than its shoulder edge.
-  const double b0 = section.formation_half_width();
-  const auto v = body.probe({{{0.0, 0.3, 0.0}}, {{b0 - 1e-3, 0.3, 0.0}}});
+  const double b0 = section.half_base_width();
+  const auto v = body.probe({{{0.0, 0.0, 0.0}}, {{b0 - 1e-3, 0.0, 0.0}}});
   EXPECT_LT(v[0].displacement[2], v[1].displacement[2]);
   EXPECT_LT(v[1].displacement[2], 0.0);
 }

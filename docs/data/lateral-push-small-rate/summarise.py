@@ -14,7 +14,7 @@ import os
 import sys
 
 here = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(here, "..", "..", "..", "cases"))
+sys.path.insert(0, os.path.join(here, "..", "..", "..", "cases", "reports"))
 import plot_push as pp  # noqa: E402
 
 RUNS = [  # folder, what differs from the shipped scaled-down all-clump push

@@ -1,0 +1,222 @@
+// trackbed: railway ballast track simulator. The command line:
+//   trackbed run CASE.prm [--mode dem] [--threads N] [--output DIR]
+//   trackbed resume DIR [--threads N]        continue an interrupted run from its checkpoint
+//   trackbed build-sample SAMPLE.prm [--threads N] [--output DIR]
+//   trackbed --print-parameters      every case-file parameter with default and documentation
+//   trackbed build-sample --print-parameters   the same for sample files
+//   trackbed --help | --version
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cases/parameters/case_parameters.h"
+#include "cases/runs/dem_run.h"
+#include "cases/runs/run_checkpoint.h"
+#include "cases/runs/sample_checkpoint.h"
+#include "cases/parameters/sample_parameters.h"
+#include "cases/runs/sample_run.h"
+#include "common/input_error.h"
+
+namespace {
+
+const char* const kUsage =
+    "usage: trackbed run CASE.prm [--mode dem|coupled] [--threads N] [--output DIR]\n"
+    "       trackbed resume DIR [--threads N]\n"
+    "       trackbed build-sample SAMPLE.prm [--threads N] [--output DIR]\n"
+    "       trackbed --print-parameters | build-sample --print-parameters\n"
+    "       trackbed --help | --version\n"
+    "\n"
+    "Runs the railway ballast model described by CASE.prm (deal.II parameter file syntax) and\n"
+    "writes a results folder: CSV histories, ParaView files, HDF5 snapshots, summary.json,\n"
+    "summary.txt and plot.png. The default case is cases/default.prm.\n"
+    "resume continues a run or a sample build that was interrupted (Ctrl-C, SIGTERM, a crash)\n"
+    "from the last checkpoint in its results folder DIR, and ends it as the uninterrupted one\n"
+    "would have.\n"
+    "build-sample builds a ballast sample of a track section (deposition, compaction, sleeper\n"
+    "seating, balls converted to clumps in a zone) and writes sample.h5 for cases to load.\n"
+    "  --mode      override 'mode' (dem: DEM with rigid walls; coupled: with the FE tier)\n"
+    "  --threads   OpenMP threads (overrides 'simulation/threads')\n"
+    "  --output    results folder (overrides 'output/folder')\n";
+
+int fail(const std::string& message, int code = 2) {
+  std::cerr << "trackbed: error: " << message << std::endl;
+  return code;
+}
+
+// The options common to run and build-sample: --threads N and --output DIR (and --mode for run).
+// Returns an error message, or "" when every option was understood.
+std::string parse_options(const std::vector<std::string>& args, bool with_mode, std::string& mode,
+                          int& threads, std::string& output) {
+  for (std::size_t i = 2; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    if (i + 1 >= args.size()) return "option '" + a + "' needs a value";
+    const std::string& v = args[++i];
+    if (a == "--mode" && with_mode) {
+      if (v != "dem" && v != "coupled") return "--mode " + v + ": valid: dem, coupled";
+      mode = v;
+    } else if (a == "--threads") {
+      try {
+        threads = std::stoi(v);
+      } catch (const std::exception&) {
+        threads = -1;
+      }
+      if (threads < 0) return "--threads " + v + ": valid: an integer >= 0 (0: OMP_NUM_THREADS)";
+    } else if (a == "--output") {
+      output = v;
+    } else {
+      return "unknown option '" + a +
+             "'; valid: " + (with_mode ? "--mode, --threads, --output" : "--threads, --output");
+    }
+  }
+  return "";
+}
+
+// The first line that differs between two fingerprints of a parameter file (fingerprint()).
+std::string first_difference(const std::string& then, const std::string& now) {
+  std::istringstream a(then), b(now);
+  std::string la, lb;
+  while (true) {
+    const bool more_a = static_cast<bool>(std::getline(a, la));
+    const bool more_b = static_cast<bool>(std::getline(b, lb));
+    if (!more_a && !more_b) return "";
+    if (!more_a || !more_b || la != lb)
+      return "'" + (more_a ? la : std::string("(nothing)")) + "' then, '" +
+             (more_b ? lb : std::string("(nothing)")) + "' now";
+  }
+}
+
+// Throws InputError when the parameter file `file` (a case or sample file: `what`) that the
+// checkpoint `path` names is gone.
+void require_file(const std::string& path, const std::string& file, const std::string& what) {
+  if (!std::filesystem::is_regular_file(file))
+    throw trackbed::InputError(path + ": the " + what + " " + file +
+                                    " is missing; valid: the " + what +
+                                    " it started from, where it was");
+}
+
+// Throws InputError when the file's parameters (fingerprint `now`) differ from those it started
+// with (`then`), naming the first that differs.
+void require_unchanged(const std::string& file, const std::string& then, const std::string& now) {
+  const std::string changed = first_difference(then, now);
+  if (!changed.empty())
+    throw trackbed::InputError(file + " has changed since it started: " + changed +
+                                    "; valid: the file as it was, or a new start");
+}
+
+// The threads of a resumed run or build: those asked for, else the checkpoint's.
+int resumed_threads(int asked, int saved) {
+  const int threads = asked > 0 ? asked : saved;
+  if (threads != saved)
+    std::cout << "trackbed: resuming on " << threads << " threads where it ran on " << saved
+              << ": the results will not be bit for bit those of an uninterrupted one" << std::endl;
+  return threads;
+}
+
+int resume(const std::vector<std::string>& args) {
+  namespace fs = std::filesystem;
+  using namespace trackbed::cases;
+  if (args.size() < 2) return fail("'resume' needs a results folder: trackbed resume DIR");
+  const std::string dir = args[1];
+  int threads = -1;
+  for (std::size_t i = 2; i < args.size(); i += 2) {
+    if (args[i] != "--threads" || i + 1 >= args.size())
+      return fail("resume: unknown option '" + args[i] + "'; valid: --threads N");
+    try {
+      threads = std::stoi(args[i + 1]);
+    } catch (const std::exception&) {
+      threads = 0;
+    }
+    if (threads < 1) return fail("--threads " + args[i + 1] + ": valid: an integer >= 1");
+  }
+  const std::string path = (fs::path(dir) / kCheckpointFile).string();
+  if (!fs::is_regular_file(path)) {
+    std::ifstream summary(fs::path(dir) / "summary.json");
+    const std::string text((std::istreambuf_iterator<char>(summary)), {});
+    if (text.find("\"status\": \"finished\"") != std::string::npos)
+      return fail(dir + ": the run finished; there is nothing to resume");
+    if (fs::is_regular_file(fs::path(dir) / "sample.h5"))
+      return fail(dir + ": the sample build finished; there is nothing to resume");
+    return fail(path +
+                ": no such file; valid: the results folder of a run or a sample build "
+                "interrupted after its first checkpoint (output/checkpoint interval, and on "
+                "Ctrl-C or SIGTERM)");
+  }
+  if (is_sample_checkpoint(path)) {
+    SampleCheckpoint checkpoint = read_sample_checkpoint(path);
+    require_file(path, checkpoint.sample_file, "sample file");
+    SampleParameters prm = read_sample_file(checkpoint.sample_file);
+    require_unchanged(checkpoint.sample_file, checkpoint.fingerprint, prm.fingerprint);
+    prm.output_folder = dir;
+    prm.threads = resumed_threads(threads, checkpoint.threads);
+    SampleRun run(std::move(prm));
+    return run.resume(std::move(checkpoint));
+  }
+  RunCheckpoint checkpoint = read_run_checkpoint(path);
+  require_file(path, checkpoint.case_file, "case file");
+  CaseParameters prm = read_case_file(checkpoint.case_file);
+  require_unchanged(checkpoint.case_file, checkpoint.case_fingerprint, prm.fingerprint);
+  prm.output_folder = dir;
+  prm.threads = resumed_threads(threads, checkpoint.threads);
+  DemRun run(std::move(prm));
+  return run.resume(std::move(checkpoint));
+}
+
+int build_sample(const std::vector<std::string>& args) {
+  if (args.size() >= 2 && args[1] == "--print-parameters") {
+    trackbed::cases::print_sample_parameters(std::cout);
+    return 0;
+  }
+  if (args.size() < 2)
+    return fail("'build-sample' needs a sample file: trackbed build-sample SAMPLE.prm");
+  trackbed::cases::SampleParameters prm = trackbed::cases::read_sample_file(args[1]);
+  std::string unused;
+  const std::string bad = parse_options(args, false, unused, prm.threads, prm.output_folder);
+  if (!bad.empty()) return fail(bad);
+  trackbed::cases::SampleRun run(std::move(prm));
+  return run.run();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty()) return fail(std::string("no command given\n") + kUsage);
+  if (args[0] == "--help" || args[0] == "-h") {
+    std::cout << kUsage;
+    return 0;
+  }
+  if (args[0] == "--version") {
+    std::cout << "trackbed " << TRACKBED_VERSION << std::endl;
+    return 0;
+  }
+  if (args[0] == "--print-parameters") {
+    trackbed::cases::print_parameters(std::cout);
+    return 0;
+  }
+  if (args[0] != "run" && args[0] != "resume" && args[0] != "build-sample")
+    return fail("unknown command '" + args[0] +
+                "'; valid: run, resume, build-sample, --print-parameters, --help, --version");
+  try {
+    if (args[0] == "build-sample") return build_sample(args);
+    if (args[0] == "resume") return resume(args);
+    if (args.size() < 2) return fail("'run' needs a case file: trackbed run CASE.prm");
+    trackbed::cases::CaseParameters prm = trackbed::cases::read_case_file(args[1]);
+    const std::string bad = parse_options(args, true, prm.mode, prm.threads, prm.output_folder);
+    if (!bad.empty()) return fail(bad);
+    if (prm.mode == "coupled")
+      return fail(prm.file +
+                  ": mode = coupled needs the FE tier, which this build does not "
+                  "have yet; valid: mode = dem");
+    trackbed::cases::DemRun run(std::move(prm));
+    return run.run();
+  } catch (const trackbed::InputError& e) {
+    return fail(e.what());
+  } catch (const std::exception& e) {
+    return fail(e.what(), 1);
+  }
+}

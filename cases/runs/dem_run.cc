@@ -1,0 +1,659 @@
+#include "cases/runs/dem_run.h"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <sstream>
+
+#include "cases/app/stop_signal.h"
+#include "cases/reports/report_support.h"
+#include "common/input_error.h"
+#include "dem/engine/clump_template.h"
+#include "dem/engine/triangle_mesh.h"
+#include "dem/io/atomic_file.h"
+#include "dem/io/clump_template_file.h"
+#include "dem/io/particle_file.h"
+#include "dem/io/snapshot.h"
+#include "dem/io/stl_file.h"
+#include "dem/samples/random_packing.h"
+
+namespace trackbed::cases {
+
+namespace fs = std::filesystem;
+using dem::Vec3;
+
+namespace {
+
+int material_index(const dem::MaterialTable& table, const std::string& name,
+                   const std::string& where) {
+  if (name.empty()) return 0;
+  try {
+    return table.index_of(name);
+  } catch (const InputError& e) {
+    throw InputError(where + ": " + e.what());
+  }
+}
+
+std::string hms(double seconds) {
+  if (!std::isfinite(seconds) || seconds < 0) return "--:--:--";
+  const long s = std::lround(seconds);
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", s / 3600, (s / 60) % 60, s % 60);
+  return buf;
+}
+
+}  // namespace
+
+// The time-series files, written under temporary names and renamed when the run ends.
+struct DemRun::Series {
+  std::unique_ptr<dem::AtomicFile> walls, energy, bodies;
+};
+
+DemRun::DemRun(CaseParameters parameters)
+    : prm_(std::move(parameters)), test_signal_(test_signal_from_environment()) {}
+DemRun::~DemRun() = default;
+
+void DemRun::build_model() {
+  dem::MaterialTable materials;
+  for (const auto& m : prm_.materials) materials.add(m);
+  for (const auto& p : prm_.pairs) {
+    const std::string where = prm_.file + ": contact pairs";
+    materials.set_pair(material_index(materials, p.material_a, where),
+                       material_index(materials, p.material_b, where), p.properties);
+  }
+
+  std::map<std::string, dem::ClumpTemplate> templates;
+  for (const auto& [name, file] : prm_.templates)
+    templates.emplace(name, dem::read_clump_template_csv(file, name));
+
+  dem::Particles particles;
+  std::optional<dem::Sample> sample;
+  if (!prm_.sample_file.empty()) {
+    sample = dem::read_sample(prm_.sample_file);
+    sample_material_.clear();
+    for (const auto& name : sample->materials)
+      sample_material_.push_back(material_index(
+          materials, name, prm_.file + ": particles/sample file " + prm_.sample_file));
+    particles = sample_particles(*sample, materials);
+  }
+  if (!prm_.particle_file.empty())
+    dem::read_particle_file(prm_.particle_file, materials, templates, particles);
+  if (prm_.generator.count > 0) {
+    const auto& g = prm_.generator;
+    dem::RandomPackingSpec spec;
+    spec.lower = Vec3(g.region[0], g.region[1], g.region[2]);
+    spec.upper = Vec3(g.region[3], g.region[4], g.region[5]);
+    spec.count = g.count;
+    spec.radius_min = g.radius_min;
+    spec.radius_max = g.radius_max;
+    spec.clump_fraction = g.clump_fraction;
+    if (!g.clump_template.empty()) {
+      const auto it = templates.find(g.clump_template);
+      if (it == templates.end())
+        throw InputError(prm_.file + ": particles/generator/clump template '" +
+                              g.clump_template + "' is not among particles/templates");
+      spec.clump_template = &it->second;
+    }
+    spec.material = material_index(materials, g.material, prm_.file + ": particles/generator");
+    spec.seed = prm_.seed;
+    dem::add_random_packing(spec, materials, particles);
+  }
+
+  dem::SimulationSettings settings;
+  settings.time_step = prm_.time_step;
+  settings.critical_fraction = prm_.critical_fraction;
+  settings.allow_supercritical_step = prm_.allow_supercritical;
+  settings.gravity = prm_.gravity;
+  settings.skin = prm_.skin;
+  settings.track_energy = prm_.track_energy;
+  sim_ = std::make_unique<dem::Simulation>(std::move(materials), std::move(particles), settings);
+
+  if (sample && prm_.sample_walls)
+    for (dem::PlaneWall w : sample->planes) {
+      w.material = sample_material_[w.material];
+      sim_->add_plane(w);
+    }
+  for (const auto& w : prm_.planes) {
+    dem::PlaneWall wall;
+    wall.name = w.name;
+    wall.point = w.point;
+    wall.normal = w.normal;
+    wall.velocity = w.velocity;
+    wall.material =
+        material_index(sim_->materials(), w.material, prm_.file + ": plane walls/" + w.name);
+    sim_->add_plane(wall);
+  }
+  for (const auto& m : prm_.meshes) {
+    const std::string where = prm_.file + ": meshes/" + m.name;
+    if (m.from_sample) {
+      const auto it = std::find_if(sample->meshes.begin(), sample->meshes.end(),
+                                   [&](const dem::MeshBody& b) { return b.name == m.name; });
+      if (it == sample->meshes.end())
+        throw InputError(
+            where + ": the sample " + prm_.sample_file + " has no mesh of this name; valid: " +
+            (sample->meshes.empty() ? std::string("(none)") : sample->meshes.front().name));
+      dem::MeshBody body = *it;
+      body.material = m.material.empty() ? sample_material_[it->material]
+                                         : material_index(sim_->materials(), m.material, where);
+      body.weight = m.weight;
+      body.dof = m.dof;
+      sim_->add_mesh_body(std::move(body));
+      continue;
+    }
+    dem::TriangleMesh mesh =
+        m.file.empty() ? dem::make_box_mesh(Vec3(m.box[0], m.box[1], m.box[2]),
+                                            Vec3(m.box[3], m.box[4], m.box[5]), m.named_box_parts)
+                       : dem::read_stl(m.file);
+    for (auto& v : mesh.vertices) v = v * m.scale + m.translation;
+    const int mat = material_index(sim_->materials(), m.material, where);
+    const double density = m.density > 0 ? m.density : (m.mass > 0 ? 1.0 : 0.0);
+    dem::MeshBody body = dem::MeshBody::from_world_mesh(m.name, mesh, mat, density, Vec3::Zero());
+    if (m.mass > 0) {
+      // Keep the mesh's inertia distribution, scaled to the given mass.
+      body.inertia *= m.mass / body.mass;
+      body.mass = m.mass;
+    }
+    body.weight = m.weight;
+    body.dof = m.dof;
+    for (int d = 0; d < 6; ++d) {
+      const auto mode = m.dof[d].mode;
+      if ((mode == dem::DofMode::free || mode == dem::DofMode::force) && !(body.mass > 0))
+        throw InputError(where +
+                              ": a free or force-loaded degree of freedom needs a mass; "
+                              "valid: set 'density' (closed mesh) or 'mass' > 0");
+    }
+    sim_->add_mesh_body(std::move(body));
+  }
+}
+
+dem::Particles DemRun::sample_particles(const dem::Sample& sample,
+                                        const dem::MaterialTable& materials) {
+  dem::Particles p = sample.particles;
+  for (int& m : p.body_material) m = sample_material_[m];
+  for (int& m : p.material) m = sample_material_[m];
+  if (!prm_.clump_material.empty()) {
+    const int clump =
+        material_index(materials, prm_.clump_material, prm_.file + ": particles/clump material");
+    for (int b = 0; b < p.num_bodies(); ++b) {
+      if (!p.is_clump[b]) continue;
+      p.body_material[b] = clump;
+      for (int e = p.first_element[b]; e < p.first_element[b + 1]; ++e) p.material[e] = clump;
+    }
+  }
+  // Sample walls keep their numbers when they are added (first); its meshes are matched by name
+  // to the case's meshes taken from the sample; contacts with anything else are dropped.
+  const int sample_planes = static_cast<int>(sample.planes.size());
+  const int planes = prm_.sample_walls ? sample_planes : 0;
+  int case_planes = planes + static_cast<int>(prm_.planes.size());
+  sample_contacts_ = dem::ContactState();
+  sample_contacts_.pairs = sample.contacts.pairs;
+  for (dem::SavedWallContact c : sample.contacts.walls) {
+    if (c.wall < sample_planes) {
+      if (!prm_.sample_walls) continue;
+    } else {
+      const std::string& name = sample.meshes[c.wall - sample_planes].name;
+      int k = 0;
+      while (k < static_cast<int>(prm_.meshes.size()) &&
+             !(prm_.meshes[k].from_sample && prm_.meshes[k].name == name))
+        ++k;
+      if (k == static_cast<int>(prm_.meshes.size())) continue;
+      c.wall = case_planes + k;
+    }
+    sample_contacts_.walls.push_back(c);
+  }
+  return p;
+}
+
+void DemRun::open_outputs(const RunCheckpoint* c) {
+  out_ = prm_.output_folder;
+  fs::create_directories(fs::path(out_) / "history");
+  fs::create_directories(fs::path(out_) / "vtu");
+  fs::create_directories(fs::path(out_) / "snapshots");
+  series_ = std::make_unique<Series>();
+  const std::string h = out_ + "/history/";
+  auto open = [&](const char* name, int k) {
+    return c ? std::make_unique<dem::AtomicFile>(h + name, c->history_bytes[k])
+             : std::make_unique<dem::AtomicFile>(h + name);
+  };
+  series_->walls = open("walls.csv", 0);
+  series_->energy = open("energy.csv", 1);
+  series_->bodies = open("bodies.csv", 2);
+  for (auto* f : {series_->walls.get(), series_->energy.get(), series_->bodies.get()})
+    f->stream() << std::setprecision(12);
+
+  auto collection = [&](const char* kind) {
+    std::vector<std::pair<double, std::string>> frames;
+    if (c)
+      for (std::size_t k = 0; k < c->frame_times.size(); ++k)
+        frames.emplace_back(c->frame_times[k], frame_file(kind, static_cast<int>(k)));
+    return std::make_unique<dem::PvdCollection>(out_ + "/" + kind + ".pvd", std::move(frames));
+  };
+  pvd_particles_ = collection("particles");
+  pvd_contacts_ = collection("contacts");
+  pvd_walls_ = collection("walls");
+  if (c) return;
+
+  auto& w = series_->walls->stream();
+  w << "time";
+  for (const auto& p : sim_->planes())
+    for (const char* col : {"fx", "fy", "fz", "mx", "my", "mz"}) w << "," << p.name << "_" << col;
+  for (const auto& m : sim_->meshes()) {
+    for (const char* col : {"x", "y", "z", "fx", "fy", "fz", "mx", "my", "mz"})
+      w << "," << m.name << "_" << col;
+    for (const auto& part : m.local.part_names)
+      for (const char* col : {"fx", "fy", "fz", "mx", "my", "mz"})
+        w << "," << m.name << "." << part << "_" << col;
+  }
+  w << "\n";
+  series_->energy->stream() << "time,kinetic,strain,friction,rolling,dashpot,local_damping,"
+                               "gravity_work,wall_work,balance_error\n";
+  series_->bodies->stream() << "time,id,x,y,z,vx,vy,vz,wx,wy,wz\n";
+}
+
+void DemRun::write_history() {
+  const double t = sim_->time();
+  auto& w = series_->walls->stream();
+  w << t;
+  for (const auto& p : sim_->planes())
+    for (const dem::Vec3* v : {&p.force, &p.moment})
+      w << "," << v->x() << "," << v->y() << "," << v->z();
+  for (const auto& m : sim_->meshes()) {
+    for (const Vec3* v : {&m.x, &m.contact_force, &m.contact_moment})
+      w << "," << v->x() << "," << v->y() << "," << v->z();
+    for (std::size_t k = 0; k < m.part_force.size(); ++k)
+      for (const dem::Vec3* v : {&m.part_force[k], &m.part_moment[k]})
+        w << "," << v->x() << "," << v->y() << "," << v->z();
+  }
+  w << "\n";
+
+  if (prm_.track_energy) {
+    const dem::EnergyBudget e = sim_->energy();
+    // Relative to the largest energy term seen, so a resting model does not divide by ~0.
+    const double scale =
+        std::max({std::abs(e.kinetic) + e.strain, e.dissipated(), std::abs(e.gravity_work),
+                  std::abs(e.wall_work), initial_energy_.kinetic + initial_energy_.strain, 1e-300});
+    series_->energy->stream() << t << "," << e.kinetic << "," << e.strain << "," << e.friction
+                              << "," << e.rolling << "," << e.dashpot << "," << e.local_damping
+                              << "," << e.gravity_work << "," << e.wall_work << ","
+                              << (e.total() - initial_energy_.total()) / scale << "\n";
+  }
+  const auto& p = sim_->particles();
+  for (const int b : tracked_) {
+    series_->bodies->stream() << t << "," << p.id[b] << "," << p.x[b].x() << "," << p.x[b].y()
+                              << "," << p.x[b].z() << "," << p.v[b].x() << "," << p.v[b].y() << ","
+                              << p.v[b].z() << "," << p.w[b].x() << "," << p.w[b].y() << ","
+                              << p.w[b].z() << "\n";
+  }
+  if (push_) push_->record(*sim_);
+}
+
+std::string DemRun::frame_file(const char* kind, int k) {
+  char name[64];
+  std::snprintf(name, sizeof name, "vtu/%s-%06d.vtu", kind, k);
+  return name;
+}
+
+void DemRun::write_frame() {
+  const int k = frame_++;
+  dem::particles_grid(*sim_, &initial_positions_).write(out_ + "/" + frame_file("particles", k));
+  dem::contacts_grid(*sim_).write(out_ + "/" + frame_file("contacts", k));
+  dem::walls_grid(*sim_).write(out_ + "/" + frame_file("walls", k));
+  pvd_particles_->add(sim_->time(), frame_file("particles", k));
+  pvd_contacts_->add(sim_->time(), frame_file("contacts", k));
+  pvd_walls_->add(sim_->time(), frame_file("walls", k));
+}
+
+void DemRun::write_snapshot() {
+  char name[64];
+  std::snprintf(name, sizeof name, "/snapshots/state-%09ld.h5", sim_->step_count());
+  dem::write_snapshot(out_ + name, *sim_);
+}
+
+void DemRun::report_progress(bool last) {
+  const auto now = Clock::now();
+  const double wall = earlier_wall_seconds_ + std::chrono::duration<double>(now - start_).count();
+  const double loop = std::chrono::duration<double>(now - loop_start_).count();
+  const long done = sim_->step_count() - std::max(loop_start_step_, part_first_step_);
+  const double rate = loop > 0 ? done / loop : 0;
+  const double eta = rate > 0 ? (total_steps_ - sim_->step_count()) / rate : NAN;
+  const double t_end = total_steps_ * sim_->time_step();
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(4) << "t = " << sim_->time() << " s of " << t_end << " s ("
+    << std::setprecision(1) << 100.0 * sim_->step_count() / std::max(total_steps_, 1L)
+    << " %) | step " << sim_->step_count() << " | " << std::setprecision(0) << rate << " steps/s | "
+    << std::scientific << std::setprecision(2) << rate * sim_->particles().num_elements()
+    << " sphere-steps/s | contacts " << sim_->num_contacts() << " | KE "
+    << sim_->particles().kinetic_energy() << " J | "
+    << (last ? "wall " + hms(wall) : "ETA " + hms(eta));
+  std::cout << s.str() << std::endl;
+  // PFC's estimate follows the contacts; a bed that densifies can pass under the step chosen at
+  // the start. Said once: the estimate carries a safety factor of about 2 (docs/theory.md).
+  const double critical = sim_->critical_timestep();
+  if (!warned_critical_ && sim_->time_step() > critical) {
+    std::cout << "trackbed: warning: at t = " << sim_->time() << " s the time step "
+              << sim_->time_step() << " s is above the critical timestep " << critical
+              << " s of the current contacts; watch for instability or lower 'time step'"
+              << std::endl;
+    warned_critical_ = true;
+  }
+  last_progress_ = now;
+}
+
+int DemRun::run() {
+  start_ = Clock::now();
+  if (prm_.threads > 0) omp_set_num_threads(prm_.threads);
+  build_model();
+  start_fresh();
+  return loop_and_finish();
+}
+
+int DemRun::resume(RunCheckpoint checkpoint) {
+  start_ = Clock::now();
+  if (prm_.threads > 0) omp_set_num_threads(prm_.threads);
+  build_model();
+  start_from(checkpoint);
+  return loop_and_finish();
+}
+
+void DemRun::make_push_test() {
+  if (!prm_.push.mesh.empty()) push_ = std::make_unique<PushTest>(prm_.push, *sim_, prm_.file);
+  // A push test ends when the push does; the step count is its estimate, updated as it goes.
+  const double end_time = push_ ? push_->expected_end(*sim_) : prm_.end_time;
+  total_steps_ = prm_.number_of_steps > 0
+                     ? prm_.number_of_steps
+                     : static_cast<long>(std::ceil(end_time / sim_->time_step() - 1e-9));
+}
+
+void DemRun::find_tracked_bodies() {
+  // Bodies are reordered at setup; the case file names them by id (row of the particle file).
+  for (long id : prm_.tracked_bodies) {
+    const auto& ids = sim_->particles().id;
+    const auto it = std::find(ids.begin(), ids.end(), id);
+    if (it == ids.end())
+      throw InputError(prm_.file + ": output/tracked bodies: no body with id " +
+                            std::to_string(id) + "; valid: 0 to " + std::to_string(ids.size() - 1));
+    tracked_.push_back(static_cast<int>(it - ids.begin()));
+  }
+}
+
+void DemRun::start_fresh() {
+  sim_->setup();
+  if (!prm_.sample_file.empty()) {
+    const int restored = sim_->restore_contact_state(sample_contacts_);
+    std::cout << "trackbed: sample " << prm_.sample_file << ": " << restored << " of "
+              << sample_contacts_.pairs.size() + sample_contacts_.walls.size()
+              << " contact springs restored" << std::endl;
+  }
+  initial_energy_ = sim_->energy();
+  initial_positions_ = sim_->particles().pos;
+  find_tracked_bodies();
+  make_push_test();
+  open_outputs();
+  remove_outputs_after(-1);  // an earlier run's frames and snapshots in this folder
+  // and its checkpoint: were this run stopped before its first, resume must not go back to it.
+  fs::remove(fs::path(out_) / kCheckpointFile);
+
+  const auto& p = sim_->particles();
+  std::cout << "trackbed: " << p.num_bodies() << " bodies (" << p.num_clumps() << " clumps), "
+            << p.num_elements() << " sphere elements, " << sim_->planes().size() << " plane walls, "
+            << sim_->meshes().size() << " meshes; time step " << sim_->time_step()
+            << " s (critical " << sim_->critical_timestep() << " s), " << total_steps_ << " steps, "
+            << sim_->team_size() << " threads" << std::endl;
+  write_history();
+  write_frame();
+  next_history_ = prm_.history_interval;
+  next_frame_ = prm_.vtu_interval > 0 ? prm_.vtu_interval : INFINITY;
+  // A push test's snapshots start with the push (advance()).
+  next_snapshot_ = prm_.snapshot_interval > 0 && !push_ ? prm_.snapshot_interval : INFINITY;
+  loop_start_step_ = 0;
+}
+
+void DemRun::start_from(RunCheckpoint& c) {
+  // The push test checks the case's push DOF before the checkpoint's controls replace it.
+  make_push_test();
+  if (c.has_push != (push_ != nullptr))
+    throw InputError(prm_.file + ": the checkpoint " +
+                          std::string(c.has_push ? "has" : "has no") + " push test and the case " +
+                          (push_ ? "has" : "has none") + "; valid: the case the run started from");
+  const long step = c.engine.steps;
+  sim_->restore_engine_state(std::move(c.engine));
+  if (push_) push_->resume(c.push);
+  if (push_) total_steps_ = std::lround(push_->expected_end(*sim_) / sim_->time_step());
+  initial_energy_ = c.initial_energy;
+  initial_positions_ = std::move(c.initial_positions);
+  find_tracked_bodies();
+  next_history_ = c.next_history;
+  next_frame_ = c.next_frame;
+  next_snapshot_ = c.next_snapshot;
+  warned_critical_ = c.warned_critical;
+  frame_ = static_cast<int>(c.frame_times.size());
+  loop_start_step_ = c.loop_start_step;
+  earlier_wall_seconds_ = c.wall_seconds;
+  earlier_loop_seconds_ = c.loop_seconds;
+  part_first_step_ = step;
+  open_outputs(&c);
+  remove_outputs_after(step);
+  std::cout << "trackbed: resuming " << prm_.file << " in " << out_ << " at t = " << sim_->time()
+            << " s (step " << step << " of about " << total_steps_ << "), "
+            << sim_->particles().num_elements() << " sphere elements, " << sim_->team_size()
+            << " threads" << std::endl;
+}
+
+void DemRun::remove_outputs_after(long step) {
+  // An interrupted run wrote a last frame and snapshot after its checkpoint; the resumed run
+  // writes its own. Files of frames from frame_ on and snapshots after `step` go. A fresh run
+  // (step -1, frame_ 0) clears them all: a pilot zone reads every snapshot of a folder.
+  for (const auto& entry : fs::directory_iterator(fs::path(out_) / "vtu")) {
+    const std::string name = entry.path().filename().string();
+    const std::size_t dash = name.rfind('-');
+    if (dash != std::string::npos && std::atoi(name.c_str() + dash + 1) >= frame_)
+      fs::remove(entry.path());
+  }
+  for (const auto& entry : fs::directory_iterator(fs::path(out_) / "snapshots")) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind("state-", 0) == 0 && std::atol(name.c_str() + 6) > step)
+      fs::remove(entry.path());
+  }
+}
+
+int DemRun::loop_and_finish() {
+  catch_stop_signals();
+  loop_start_ = last_progress_ = last_checkpoint_ = Clock::now();
+  try {
+    advance();
+  } catch (const std::exception& e) {
+    // Keep what the run wrote: the histories up to the failure explain it.
+    finish("failed: " + std::string(e.what()));
+    throw;
+  }
+  const bool interrupted = stop_signal() != 0;
+  if (interrupted && prm_.checkpoint_interval > 0) write_checkpoint();
+  finish(interrupted ? "interrupted" : "finished");
+  if (interrupted && prm_.checkpoint_interval > 0)
+    std::cout << "trackbed: interrupted at t = " << sim_->time()
+              << " s; continue with: trackbed resume " << out_ << std::endl;
+  return interrupted ? 130 : 0;
+}
+
+void DemRun::write_checkpoint() {
+  RunCheckpoint c;
+  c.case_file = fs::absolute(prm_.file).lexically_normal().string();
+  c.case_fingerprint = prm_.fingerprint;
+  c.version = TRACKBED_VERSION;
+  c.threads = omp_get_max_threads();
+  c.engine = sim_->engine_state();
+  c.next_history = next_history_;
+  c.next_frame = next_frame_;
+  c.next_snapshot = next_snapshot_;
+  for (const auto& [t, file] : pvd_particles_->entries()) c.frame_times.push_back(t);
+  for (auto* f : {series_->walls.get(), series_->energy.get(), series_->bodies.get()})
+    c.history_bytes.push_back(f->flushed_size());
+  c.warned_critical = warned_critical_;
+  c.loop_start_step = loop_start_step_;
+  const auto now = Clock::now();
+  c.wall_seconds = earlier_wall_seconds_ + std::chrono::duration<double>(now - start_).count();
+  c.loop_seconds = earlier_loop_seconds_ + std::chrono::duration<double>(now - loop_start_).count();
+  c.initial_energy = initial_energy_;
+  c.initial_positions = initial_positions_;
+  c.has_push = push_ != nullptr;
+  if (push_) c.push = push_->progress();
+  write_run_checkpoint(out_ + "/" + kCheckpointFile, c);
+  last_checkpoint_ = Clock::now();
+}
+
+void DemRun::advance() {
+  const double dt = sim_->time_step();
+  auto running = [&] { return push_ ? !push_->finished() : sim_->step_count() < total_steps_; };
+  while (running() && stop_signal() == 0) {
+    if (sim_->step_count() == prm_.warmup_steps && prm_.warmup_steps > 0) {
+      loop_start_ = Clock::now();
+      loop_start_step_ = sim_->step_count();
+      earlier_loop_seconds_ = 0;
+    }
+    if (push_) {
+      const bool held = !push_->pushing();
+      push_->control(*sim_);
+      // A push test's snapshots run on the push's clock: one where the push starts, the bed at
+      // rest under the sleeper (a pilot zone's reference, docs/zones.md#pilot-zones), then one
+      // every interval.
+      if (held && push_->pushing() && prm_.snapshot_interval > 0) {
+        write_snapshot();
+        next_snapshot_ = sim_->time() + prm_.snapshot_interval;
+      }
+    }
+    sim_->step();
+    const double t = sim_->time() + 0.5 * dt;  // tolerant of round-off in the clock
+    if (prm_.history_interval > 0 && t >= next_history_) {
+      write_history();
+      next_history_ += prm_.history_interval;
+    }
+    if (t >= next_frame_) {
+      write_frame();
+      next_frame_ += prm_.vtu_interval;
+    }
+    if (t >= next_snapshot_) {
+      write_snapshot();
+      next_snapshot_ += prm_.snapshot_interval;
+    }
+    if (std::chrono::duration<double>(Clock::now() - last_progress_).count() >=
+        prm_.progress_interval) {
+      sim_->check_finite();
+      if (push_) total_steps_ = std::lround(push_->expected_end(*sim_) / dt);
+      report_progress(false);
+    }
+    if (prm_.checkpoint_interval > 0 &&
+        std::chrono::duration<double>(Clock::now() - last_checkpoint_).count() >=
+            prm_.checkpoint_interval)
+      write_checkpoint();
+    if (sim_->step_count() == test_signal_.first) std::raise(test_signal_.second);
+  }
+  loop_seconds_ =
+      earlier_loop_seconds_ + std::chrono::duration<double>(Clock::now() - loop_start_).count();
+  sim_->check_finite();
+}
+
+void DemRun::finish(const std::string& status) {
+  const bool finished = status == "finished";
+  if (loop_seconds_ == 0)
+    loop_seconds_ =
+        earlier_loop_seconds_ + std::chrono::duration<double>(Clock::now() - loop_start_).count();
+  report_progress(true);
+  write_history();
+  if (finished || status == "interrupted") {
+    // A blown-up state (NaN) is not worth a frame or a snapshot.
+    write_frame();
+    write_snapshot();
+  }
+  series_->walls->commit();
+  series_->energy->commit();
+  series_->bodies->commit();
+  if (push_) push_->write_csv(out_ + "/push.csv");
+  write_summary(status);
+  if (prm_.plot && finished) make_plot();
+  // A finished run needs no checkpoint (and it is the largest file of the folder).
+  if (finished) fs::remove(fs::path(out_) / kCheckpointFile);
+  std::cout << "trackbed: results in " << out_ << (finished ? "" : " (" + status + ")")
+            << std::endl;
+}
+
+void DemRun::write_summary(const std::string& status) {
+  const auto& p = sim_->particles();
+  const dem::EnergyBudget e = sim_->energy();
+  const double wall =
+      earlier_wall_seconds_ + std::chrono::duration<double>(Clock::now() - start_).count();
+  const long timed = sim_->step_count() - loop_start_step_;
+  const double scale = std::max({std::abs(e.kinetic) + e.strain, e.dissipated(),
+                                 std::abs(e.gravity_work), std::abs(e.wall_work), 1e-300});
+  std::vector<SummaryItem> items = {
+      {"bodies", "bodies", "", double(p.num_bodies())},
+      {"clumps", "clumps", "", double(p.num_clumps())},
+      {"elements", "sphere elements", "", double(p.num_elements())},
+      {"contacts", "contacts (last step)", "", double(sim_->num_contacts())},
+      {"steps", "steps", "", double(sim_->step_count())},
+      {"time_step_s", "time step", "s", sim_->time_step()},
+      {"critical_time_step_s", "critical time step", "s", sim_->critical_timestep()},
+      {"simulated_time_s", "simulated time", "s", sim_->time()},
+      {"wall_time_s", "wall time", "s", wall},
+      {"timed_steps", "timed steps (after warm-up)", "", double(timed)},
+      {"loop_time_s", "loop time of the timed steps", "s", loop_seconds_},
+      {"sphere_steps_per_s", "sphere-steps per second", "",
+       loop_seconds_ > 0 ? p.num_elements() * timed / loop_seconds_ : 0.0},
+      {"threads", "threads", "", double(sim_->team_size())},
+      {"neighbor_builds", "neighbour list builds", "", double(sim_->num_neighbor_builds())},
+      {"kinetic_energy", "kinetic energy", "J", e.kinetic},
+      {"strain_energy", "strain energy", "J", e.strain},
+      {"dissipated_energy", "dissipated energy", "J", e.dissipated()},
+      {"energy_balance_error", "energy balance error (relative)", "",
+       prm_.track_energy ? (e.total() - initial_energy_.total()) / scale : NAN},
+      {"max_particle_contact_force_n", "max particle-particle contact force", "N",
+       sim_->max_particle_contact_force()},
+      {"max_wall_contact_force_n", "max particle-wall contact force", "N",
+       sim_->max_wall_contact_force()},
+  };
+  for (const auto& w : sim_->planes())
+    items.push_back({"wall_force_z_" + w.name, "wall " + w.name + " force z", "N", w.force.z()});
+  for (const auto& m : sim_->meshes())
+    for (int k = 0; k < 3; ++k)
+      items.push_back({"mesh_force_" + std::string(1, "xyz"[k]) + "_" + m.name,
+                       "mesh " + m.name + " force " + "xyz"[k], "N", m.contact_force[k]});
+  if (push_)
+    for (const auto& i : push_->summary()) items.push_back(i);
+
+  dem::AtomicFile json(out_ + "/summary.json");
+  json.stream() << std::setprecision(10) << "{\n  \"case\": \"" << json_escape(prm_.file)
+                << "\",\n  \"status\": \"" << json_escape(status) << "\"";
+  for (const auto& i : items) {
+    json.stream() << ",\n  \"" << i.key << "\": ";
+    if (std::isfinite(i.value))
+      json.stream() << i.value;
+    else
+      json.stream() << "null";
+  }
+  json.stream() << "\n}\n";
+  json.commit();
+
+  dem::AtomicFile txt(out_ + "/summary.txt");
+  txt.stream() << "trackbed summary: " << prm_.file << " (" << status << ")\n";
+  for (const auto& i : items)
+    txt.stream() << "  " << std::left << std::setw(40) << i.label << std::right << std::setw(16)
+                 << std::setprecision(6) << i.value << " " << i.unit << "\n";
+  txt.commit();
+}
+
+void DemRun::make_plot() {
+  run_plot_script("plot_history.py", out_);
+  if (push_) run_plot_script("plot_push.py", out_, "push-plot.log");
+  if (push_) run_plot_script("plot_displacement.py", out_, "displacement-plot.log");
+  run_plot_script("plot_force_chains.py", out_, "force-chains-plot.log");
+}
+
+}  // namespace trackbed::cases

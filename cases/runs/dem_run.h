@@ -1,0 +1,95 @@
+// A standalone DEM run (mode = dem): builds the model a case file describes, runs it with a
+// progress line, and writes the results folder:
+//   history/walls.csv, history/energy.csv, history/bodies.csv   time series
+//   particles.pvd, contacts.pvd, walls.pvd (+ vtu/)              ParaView
+//   snapshots/state-NNNNNNNNN.h5                                    HDF5 model state
+//   summary.json, summary.txt, plot.png                          what a person opens first
+//   checkpoint.h5          the state to resume from (run_checkpoint.h), every `checkpoint
+//                          interval` of wall time and on interruption; removed when it finishes
+#pragma once
+
+#include <chrono>
+#include <fstream>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cases/parameters/case_parameters.h"
+#include "cases/runs/push_test.h"
+#include "cases/runs/run_checkpoint.h"
+#include "dem/engine/contact_state.h"
+#include "dem/io/sample.h"
+#include "dem/engine/simulation.h"
+#include "dem/io/vtu_writer.h"
+
+namespace trackbed::cases {
+
+class DemRun {
+ public:
+  explicit DemRun(CaseParameters parameters);
+  ~DemRun();
+  // Returns the process exit status: 0 finished, 130 interrupted by a signal.
+  int run();
+  // Continues an interrupted run of the same case from its checkpoint, in its results folder
+  // (the parameters' output folder); the same exit statuses.
+  int resume(RunCheckpoint checkpoint);
+
+ private:
+  void build_model();
+  // The bodies of particles/sample file with the case's material indices, and the sample's
+  // contact springs renumbered to the model's walls (restored after setup).
+  // With particles/clump material, the clumps get that material.
+  dem::Particles sample_particles(const dem::Sample& sample, const dem::MaterialTable& materials);
+  // Setup and the run's start (fresh), or the checkpoint's state (resumed).
+  void start_fresh();
+  void start_from(RunCheckpoint& c);
+  // The push test of the case, if any (after build_model).
+  void make_push_test();
+  // Opens the histories and ParaView collections: new, or continued after `c`'s bytes and frames.
+  void open_outputs(const RunCheckpoint* c = nullptr);
+  int loop_and_finish();
+  void write_checkpoint();
+  void find_tracked_bodies();
+  // Removes the frames and snapshots an interrupted run wrote after its checkpoint at `step`.
+  void remove_outputs_after(long step);
+  void write_history();
+  void write_frame();
+  // The ParaView file of one kind (particles, contacts, walls) of frame k, relative to out_.
+  static std::string frame_file(const char* kind, int k);
+  void write_snapshot();
+  void report_progress(bool last);
+  void advance();  // the time loop with its outputs
+  void finish(const std::string& status);
+  void write_summary(const std::string& status);
+  void make_plot();
+
+  CaseParameters prm_;
+  std::unique_ptr<dem::Simulation> sim_;
+  std::string out_;
+  long total_steps_ = 0;
+
+  struct Series;
+  std::unique_ptr<Series> series_;
+  std::unique_ptr<PushTest> push_;
+  std::unique_ptr<dem::PvdCollection> pvd_particles_, pvd_contacts_, pvd_walls_;
+  std::vector<dem::Vec3> initial_positions_;
+  std::vector<int> tracked_;  // body indices of output/tracked bodies
+  dem::ContactState sample_contacts_;
+  std::vector<int> sample_material_;  // case material of each sample material
+  int frame_ = 0;
+  bool warned_critical_ = false;
+
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point start_, last_progress_, loop_start_, last_checkpoint_;
+  long loop_start_step_ = 0;
+  double loop_seconds_ = 0;
+  // Wall and loop seconds of the run's earlier parts (a resumed run: up to its checkpoint).
+  double earlier_wall_seconds_ = 0, earlier_loop_seconds_ = 0;
+  long part_first_step_ = 0;                 // the step this part of the run started at
+  std::pair<long, int> test_signal_{-1, 0};  // step, signal (TRACKBED_TEST_SIGNAL)
+  double next_history_ = 0, next_frame_ = 0, next_snapshot_ = 0;
+  dem::EnergyBudget initial_energy_;
+};
+
+}  // namespace trackbed::cases

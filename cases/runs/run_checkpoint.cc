@@ -1,0 +1,114 @@
+#include "cases/runs/run_checkpoint.h"
+
+#include <cmath>
+
+#include "dem/io/hdf5_io.h"
+#include "common/input_error.h"
+
+namespace trackbed::cases {
+
+namespace {
+
+using dem::hdf5::Handle;
+namespace hdf5 = dem::hdf5;
+
+constexpr const char* kFormat = "trackbed checkpoint 1";
+constexpr const char* kWhat = "a trackbed checkpoint (checkpoint.h5 of a results folder)";
+
+std::vector<double> energy_numbers(const dem::EnergyBudget& e) {
+  return {e.kinetic, e.strain,        e.friction,     e.rolling,
+          e.dashpot, e.local_damping, e.gravity_work, e.wall_work};
+}
+
+dem::EnergyBudget energy_of(const std::vector<double>& v) {
+  dem::EnergyBudget e;
+  e.kinetic = v[0], e.strain = v[1], e.friction = v[2], e.rolling = v[3], e.dashpot = v[4];
+  e.local_damping = v[5], e.gravity_work = v[6], e.wall_work = v[7];
+  return e;
+}
+
+}  // namespace
+
+void write_run_checkpoint(const std::string& path, const RunCheckpoint& c) {
+  hdf5::write_file(path, "checkpoint", [&](hid_t file) {
+    hdf5::write_string_attribute(file, "format", kFormat);
+    hdf5::write_string_attribute(file, "version", c.version);
+    hdf5::write_string_attribute(file, "case_file", c.case_file);
+    hdf5::write_string_attribute(file, "case_fingerprint", c.case_fingerprint);
+    hdf5::write_string_attribute(file, "threads", std::to_string(c.threads));
+    {
+      Handle g(hdf5::create_group(file, "engine"), H5Gclose, "group engine");
+      dem::write_engine_state(g, c.engine);
+    }
+    Handle run(hdf5::create_group(file, "run"), H5Gclose, "group run");
+    hdf5::write_doubles(
+        run, "counters",
+        {c.next_history, c.next_frame, c.next_snapshot, c.warned_critical ? 1.0 : 0.0,
+         double(c.loop_start_step), c.wall_seconds, c.loop_seconds});
+    hdf5::write_doubles(run, "frame_times", c.frame_times);
+    hdf5::write_integers(run, "history_bytes",
+                         std::vector<std::int64_t>(c.history_bytes.begin(), c.history_bytes.end()));
+    hdf5::write_doubles(run, "initial_energy", energy_numbers(c.initial_energy));
+    hdf5::write_vectors(run, "initial_positions", c.initial_positions);
+    if (c.has_push) {
+      Handle g(hdf5::create_group(file, "push"), H5Gclose, "group push");
+      const PushTest::Progress& p = c.push;
+      hdf5::write_doubles(g, "progress",
+                          {p.start, p.push_start, p.hold_ratio, double(p.leg),
+                           double(p.confirmations), p.hold_converged ? 1.0 : 0.0});
+      const std::size_t cols = p.rows.empty() ? 0 : p.rows.front().size();
+      std::vector<double> flat;
+      for (const auto& r : p.rows) flat.insert(flat.end(), r.begin(), r.end());
+      hdf5::write_doubles(g, "rows", flat.data(), p.rows.size(), cols);  // cols >= 7
+      hdf5::write_string_attribute(g, "columns", std::to_string(cols));
+      if (!p.start_support.empty()) hdf5::write_doubles(g, "start_support", p.start_support);
+    }
+  });
+}
+
+RunCheckpoint read_run_checkpoint(const std::string& path) {
+  Handle file(hdf5::open_for_reading(path, kWhat), H5Fclose, "open " + path);
+  if (!hdf5::has_format(file, path, kFormat))
+    throw InputError(path + ": not a trackbed checkpoint of this version; valid: " + kWhat +
+                          " (" + kFormat + ")");
+  RunCheckpoint c;
+  c.version = hdf5::read_string_attribute(file, path, "version");
+  c.case_file = hdf5::read_string_attribute(file, path, "case_file");
+  c.case_fingerprint = hdf5::read_string_attribute(file, path, "case_fingerprint");
+  c.threads = std::stoi(hdf5::read_string_attribute(file, path, "threads"));
+  {
+    Handle g(hdf5::open_group(file, path, "engine"), H5Gclose, "group engine");
+    c.engine = dem::read_engine_state(g, path);
+  }
+  Handle run(hdf5::open_group(file, path, "run"), H5Gclose, "group run");
+  const auto n = hdf5::read_doubles(run, path, "counters", 7);
+  c.next_history = n[0], c.next_frame = n[1], c.next_snapshot = n[2];
+  c.warned_critical = n[3] != 0, c.loop_start_step = static_cast<long>(n[4]);
+  c.wall_seconds = n[5], c.loop_seconds = n[6];
+  c.frame_times = hdf5::read_doubles(run, path, "frame_times");
+  const auto bytes = hdf5::read_integers(run, path, "history_bytes", 3);
+  c.history_bytes.assign(bytes.begin(), bytes.end());
+  c.initial_energy = energy_of(hdf5::read_doubles(run, path, "initial_energy", 8));
+  c.initial_positions =
+      hdf5::read_vectors(run, path, "initial_positions", c.engine.particles.num_elements());
+  c.has_push = hdf5::exists(file, "push");
+  if (c.has_push) {
+    Handle g(hdf5::open_group(file, path, "push"), H5Gclose, "group push");
+    const auto p = hdf5::read_doubles(g, path, "progress", 6);
+    c.push.start = p[0], c.push.push_start = p[1], c.push.hold_ratio = p[2];
+    c.push.leg = std::lround(p[3]), c.push.confirmations = static_cast<int>(p[4]);
+    c.push.hold_converged = p[5] != 0;
+    const long cols = std::stol(hdf5::read_string_attribute(g, path, "columns"));
+    const auto flat = hdf5::read_doubles(g, path, "rows");
+    if (cols <= 0 ? !flat.empty() : flat.size() % cols != 0)
+      throw InputError(path + ": push/rows does not hold whole rows; the file is damaged");
+    for (std::size_t k = 0; cols > 0 && k < flat.size(); k += cols)
+      c.push.rows.emplace_back(flat.begin() + k, flat.begin() + k + cols);
+    // Written once the push has started (absent from the checkpoints of trackbed before it).
+    if (hdf5::exists(g, "start_support"))
+      c.push.start_support = hdf5::read_doubles(g, path, "start_support");
+  }
+  return c;
+}
+
+}  // namespace trackbed::cases

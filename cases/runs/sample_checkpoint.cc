@@ -1,0 +1,238 @@
+#include "cases/runs/sample_checkpoint.h"
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+
+#include "dem/io/hdf5_io.h"
+#include "common/input_error.h"
+
+namespace trackbed::cases {
+
+namespace {
+
+using dem::hdf5::Handle;
+namespace hdf5 = dem::hdf5;
+
+constexpr const char* kFormat = "trackbed sample build checkpoint 1";
+// Its part (attribute `part`; a checkpoint without it was taken in a conversion).
+constexpr const char* kBallBuild = "ball build";
+constexpr const char* kConversion = "conversion";
+constexpr const char* kWhat = "a checkpoint of trackbed build-sample (checkpoint.h5 of its folder)";
+constexpr int kStageColumns = 9;
+constexpr int kHistoryColumns = 7;
+
+// Rows of numbers as one 2-D dataset, the texts beside them as an attribute.
+void write_table(hid_t g, const char* name, const std::vector<std::string>& texts,
+                 const std::vector<double>& flat, int cols) {
+  hdf5::write_doubles(g, name, flat.data(), texts.size(), cols);
+  hdf5::write_strings(g, (std::string(name) + "_names").c_str(), texts);
+}
+
+std::vector<double> read_table(hid_t g, const std::string& file, const char* name,
+                               std::vector<std::string>& texts, int cols) {
+  texts = hdf5::read_strings(g, file, (std::string(name) + "_names").c_str());
+  return hdf5::read_doubles(g, file, name, static_cast<long>(texts.size()) * cols);
+}
+
+void write_stages(hid_t g, const char* name, const std::vector<dem::StageReport>& stages) {
+  std::vector<std::string> names;
+  std::vector<double> flat;
+  for (const auto& s : stages) {
+    names.push_back(s.name);
+    flat.insert(flat.end(), {double(s.steps), s.simulated_time, s.wall_time, s.final_ratio,
+                             s.converged ? 1.0 : 0.0, double(s.bodies), double(s.elements),
+                             double(s.contacts), s.time_step});
+  }
+  write_table(g, name, names, flat, kStageColumns);
+}
+
+std::vector<dem::StageReport> read_stages(hid_t g, const std::string& file, const char* name) {
+  std::vector<std::string> names;
+  const auto v = read_table(g, file, name, names, kStageColumns);
+  std::vector<dem::StageReport> out;
+  for (std::size_t k = 0; k < names.size(); ++k) {
+    const double* r = v.data() + k * kStageColumns;
+    dem::StageReport s;
+    s.name = names[k];
+    s.steps = std::lround(r[0]);
+    s.simulated_time = r[1], s.wall_time = r[2], s.final_ratio = r[3];
+    s.converged = r[4] != 0;
+    s.bodies = static_cast<int>(r[5]), s.elements = static_cast<int>(r[6]);
+    s.contacts = static_cast<int>(r[7]);
+    s.time_step = r[8];
+    out.push_back(s);
+  }
+  return out;
+}
+
+// The ball build's report (dem::BuildReport) less its stages.
+void write_ball_build(hid_t file, const dem::BuildCheckpoint& b) {
+  const dem::BuildReport& r = b.report;
+  Handle g(hdf5::create_group(file, "ball_build"), H5Gclose, "group ball_build");
+  hdf5::write_doubles(
+      g, "report",
+      {double(r.stones_drawn), r.deposition_friction_factor, r.porosity, b.sleeper_lift});
+  std::vector<dem::StageReport> stages;
+  std::vector<double> points;
+  for (const auto& p : r.calibration) {
+    stages.push_back(p.stage);
+    points.insert(points.end(), {p.friction_factor, p.porosity});
+  }
+  write_stages(g, "calibration_stages", stages);
+  hdf5::write_doubles(g, "calibration", points);
+}
+
+void read_ball_build(hid_t file, const std::string& path, dem::BuildCheckpoint& b) {
+  dem::BuildReport& r = b.report;
+  Handle g(hdf5::open_group(file, path, "ball_build"), H5Gclose, "group ball_build");
+  const auto n = hdf5::read_doubles(g, path, "report", 4);
+  r.stones_drawn = static_cast<int>(n[0]);
+  r.deposition_friction_factor = n[1];
+  r.porosity = n[2];
+  b.sleeper_lift = n[3];
+  const auto stages = read_stages(g, path, "calibration_stages");
+  const auto points = hdf5::read_doubles(g, path, "calibration", 2 * long(stages.size()));
+  for (std::size_t k = 0; k < stages.size(); ++k)
+    r.calibration.push_back({points[2 * k], points[2 * k + 1], stages[k]});
+}
+
+}  // namespace
+
+std::string sample_digest(const dem::Sample& sample) {
+  std::uint64_t h = 14695981039346656037ull;
+  auto add = [&](const void* data, std::size_t bytes) {
+    const auto* b = static_cast<const unsigned char*>(data);
+    for (std::size_t k = 0; k < bytes; ++k) h = (h ^ b[k]) * 1099511628211ull;
+  };
+  const dem::Particles& p = sample.particles;
+  const long n = p.num_bodies();
+  add(&n, sizeof n);
+  add(p.id.data(), p.id.size() * sizeof(p.id[0]));
+  for (const dem::Vec3& x : p.x) add(x.data(), 3 * sizeof(double));
+  add(p.radius.data(), p.radius.size() * sizeof(double));
+  char text[32];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+  return text;
+}
+
+std::string SampleCheckpoint::where() const {
+  if (in_ball_build)
+    return "ball build's " + dem::to_string(ball_build.stage) + " stage at step " +
+           std::to_string(ball_build.point.steps);
+  return dem::to_string(conversion.stage) + " stage at step " +
+         std::to_string(conversion.point.steps);
+}
+
+void write_sample_checkpoint(const std::string& path, const SampleCheckpoint& c) {
+  hdf5::write_file(path, "checkpoint", [&](hid_t file) {
+    hdf5::write_string_attribute(file, "format", kFormat);
+    hdf5::write_string_attribute(file, "version", c.version);
+    hdf5::write_string_attribute(file, "sample_file", c.sample_file);
+    hdf5::write_string_attribute(file, "fingerprint", c.fingerprint);
+    hdf5::write_string_attribute(file, "base_digest", c.base_digest);
+    hdf5::write_string_attribute(file, "threads", std::to_string(c.threads));
+    hdf5::write_string_attribute(file, "part", c.in_ball_build ? kBallBuild : kConversion);
+    const dem::BuildCheckpoint& b = c.ball_build;
+    const dem::ConversionCheckpoint& v = c.conversion;
+    {
+      Handle g(hdf5::create_group(file, "engine"), H5Gclose, "group engine");
+      dem::write_engine_state(g, c.in_ball_build ? b.engine : v.engine);
+    }
+    if (c.in_ball_build) write_ball_build(file, b);
+    Handle build(hdf5::create_group(file, "build"), H5Gclose, "group build");
+    const int stage = c.in_ball_build ? static_cast<int>(b.stage) : static_cast<int>(v.stage);
+    const dem::StagePoint& at = c.in_ball_build ? b.point : v.point;
+    const std::vector<double> counters = {double(stage), double(at.steps), double(at.below),
+                                          at.wall_time, c.wall_seconds};
+    hdf5::write_doubles(build, "counters", counters);
+    hdf5::write_doubles(build, "criterion_memory",
+                        c.in_ball_build ? b.criterion_memory : v.criterion_memory);
+    // The stages the running part finished before.
+    write_stages(build, "conversion_stages", c.in_ball_build ? b.report.stages : v.done);
+    write_stages(build, "build_stages", c.stages);
+    std::vector<std::string> keys, values;
+    for (const auto& [k, x] : c.notes) keys.push_back(k), values.push_back(x);
+    hdf5::write_strings(build, "note_keys", keys);
+    hdf5::write_strings(build, "note_values", values);
+    std::vector<std::string> stages;
+    std::vector<double> flat;
+    for (const auto& h : c.history) {
+      stages.push_back(h.stage);
+      flat.insert(flat.end(), {h.time, double(h.step), h.ratio, h.kinetic_energy,
+                               double(h.contacts), h.sleeper_z, h.sleeper_load});
+    }
+    write_table(build, "history", stages, flat, kHistoryColumns);
+  });
+}
+
+bool is_sample_checkpoint(const std::string& path) {
+  Handle file(hdf5::open_for_reading(path, kWhat), H5Fclose, "open " + path);
+  return hdf5::has_format(file, path, kFormat);
+}
+
+SampleCheckpoint read_sample_checkpoint(const std::string& path) {
+  Handle file(hdf5::open_for_reading(path, kWhat), H5Fclose, "open " + path);
+  if (!hdf5::has_format(file, path, kFormat))
+    throw InputError(path + ": not a sample build checkpoint of this version; valid: " +
+                          kWhat + " (" + kFormat + ")");
+  SampleCheckpoint c;
+  c.version = hdf5::read_string_attribute(file, path, "version");
+  c.sample_file = hdf5::read_string_attribute(file, path, "sample_file");
+  c.fingerprint = hdf5::read_string_attribute(file, path, "fingerprint");
+  c.base_digest = hdf5::read_string_attribute(file, path, "base_digest");
+  c.threads = std::stoi(hdf5::read_string_attribute(file, path, "threads"));
+  const std::string part = H5Aexists(file, "part") > 0
+                               ? hdf5::read_string_attribute(file, path, "part")
+                               : std::string(kConversion);
+  if (part != kBallBuild && part != kConversion)
+    throw InputError(path + ": part = '" + part + "'; valid: '" + kBallBuild + "' or '" +
+                          kConversion + "'; the file is damaged");
+  c.in_ball_build = part == kBallBuild;
+  dem::BuildCheckpoint& b = c.ball_build;
+  dem::ConversionCheckpoint& v = c.conversion;
+  {
+    Handle g(hdf5::open_group(file, path, "engine"), H5Gclose, "group engine");
+    (c.in_ball_build ? b.engine : v.engine) = dem::read_engine_state(g, path);
+  }
+  if (c.in_ball_build) read_ball_build(file, path, b);
+  Handle build(hdf5::open_group(file, path, "build"), H5Gclose, "group build");
+  const auto n = hdf5::read_doubles(build, path, "counters", 5);
+  const int stage = static_cast<int>(n[0]);
+  const int last = (c.in_ball_build ? dem::kBuildStages : dem::kConversionStages) - 1;
+  if (stage < 0 || stage > last)
+    throw InputError(path + ": build/counters names stage " + std::to_string(stage) +
+                          " of the " + part + "; valid: 0 to " + std::to_string(last) +
+                          "; the file is damaged");
+  dem::StagePoint& at = c.in_ball_build ? b.point : v.point;
+  at.steps = std::lround(n[1]);
+  at.below = static_cast<int>(n[2]);
+  at.wall_time = n[3];
+  c.wall_seconds = n[4];
+  (c.in_ball_build ? b.criterion_memory : v.criterion_memory) =
+      hdf5::read_doubles(build, path, "criterion_memory");
+  auto& done = c.in_ball_build ? b.report.stages : v.done;
+  done = read_stages(build, path, "conversion_stages");
+  if (c.in_ball_build)
+    b.stage = static_cast<dem::BuildStage>(stage);
+  else
+    v.stage = static_cast<dem::ConversionStage>(stage);
+  c.stages = read_stages(build, path, "build_stages");
+  const auto keys = hdf5::read_strings(build, path, "note_keys");
+  const auto values = hdf5::read_strings(build, path, "note_values");
+  if (keys.size() != values.size())
+    throw InputError(path +
+                          ": build/note_keys and note_values differ in length; the file "
+                          "is damaged");
+  for (std::size_t k = 0; k < keys.size(); ++k) c.notes.push_back({keys[k], values[k]});
+  std::vector<std::string> stages;
+  const auto flat = read_table(build, path, "history", stages, kHistoryColumns);
+  for (std::size_t k = 0; k < stages.size(); ++k) {
+    const double* r = flat.data() + k * kHistoryColumns;
+    c.history.push_back(
+        {stages[k], r[0], std::lround(r[1]), r[2], r[3], static_cast<int>(r[4]), r[5], r[6]});
+  }
+  return c;
+}
+
+}  // namespace trackbed::cases

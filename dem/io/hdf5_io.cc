@@ -1,0 +1,214 @@
+#include "dem/io/hdf5_io.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+#include "common/input_error.h"
+
+namespace trackbed::dem::hdf5 {
+
+Handle::Handle(hid_t id, herr_t (*close)(hid_t), const std::string& what) : id_(id), close_(close) {
+  if (id_ < 0) throw std::runtime_error("HDF5: " + what + " failed");
+}
+
+hid_t open_for_reading(const std::string& path, const std::string& what) {
+  if (!std::filesystem::is_regular_file(path))
+    throw InputError(path + ": no such file; valid: " + what);
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported by us, in one line
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file < 0) throw InputError(path + ": cannot open as HDF5; valid: " + what);
+  return file;
+}
+
+hid_t create_file(const std::string& path) {
+  const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (f < 0) throw std::runtime_error("HDF5: create " + path + " failed (check the folder)");
+  return f;
+}
+
+void write_file(const std::string& path, const std::string& what,
+                const std::function<void(hid_t file)>& fill) {
+  const std::string tmp = path + ".part";
+  try {
+    Handle file(create_file(tmp), H5Fclose, "create " + tmp);
+    fill(file);
+  } catch (...) {
+    std::remove(tmp.c_str());
+    throw;
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+    throw std::runtime_error(path + ": cannot rename the finished " + what + " into place");
+}
+
+hid_t create_group(hid_t parent, const char* name) {
+  const hid_t g = H5Gcreate2(parent, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (g < 0) throw std::runtime_error(std::string("HDF5: create group ") + name + " failed");
+  return g;
+}
+
+hid_t open_group(hid_t parent, const std::string& file, const char* name) {
+  if (!exists(parent, name))
+    throw InputError(file + ": group '" + name + "' is missing; valid: a trackbed file");
+  const hid_t g = H5Gopen2(parent, name, H5P_DEFAULT);
+  if (g < 0) throw std::runtime_error(std::string("HDF5: open group ") + name + " failed");
+  return g;
+}
+
+namespace {
+
+template <class T>
+void write_array(hid_t parent, const char* name, hid_t type, const T* data, hsize_t rows,
+                 hsize_t cols) {
+  const hsize_t dims[2] = {rows, cols};
+  Handle space(H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr), H5Sclose, "dataspace");
+  Handle set(H5Dcreate2(parent, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
+             std::string("create ") + name);
+  if (rows > 0 && H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
+    throw std::runtime_error(std::string("HDF5: write ") + name + " failed");
+}
+
+template <class T>
+std::vector<T> read_array(hid_t parent, const std::string& file, const char* name, hid_t type,
+                          long expected) {
+  if (!exists(parent, name))
+    throw InputError(file + ": dataset '" + name + "' is missing; valid: a trackbed file");
+  Handle set(H5Dopen2(parent, name, H5P_DEFAULT), H5Dclose, std::string("open ") + name);
+  Handle space(H5Dget_space(set), H5Sclose, "dataspace");
+  const hssize_t n = H5Sget_simple_extent_npoints(space);
+  if (expected >= 0 && n != expected)
+    throw InputError(file + ": dataset '" + name + "' has " + std::to_string(n) +
+                     " values, the model needs " + std::to_string(expected) +
+                     "; valid: a file written for the same model");
+  std::vector<T> out(n);
+  if (n > 0 && H5Dread(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
+    throw InputError(file + ": cannot read dataset '" + name + "'");
+  return out;
+}
+
+}  // namespace
+
+void write_doubles(hid_t parent, const char* name, const double* data, hsize_t rows, hsize_t cols) {
+  write_array(parent, name, H5T_NATIVE_DOUBLE, data, rows, cols);
+}
+
+void write_doubles(hid_t parent, const char* name, const std::vector<double>& v) {
+  write_doubles(parent, name, v.data(), v.size(), 1);
+}
+
+void write_vectors(hid_t parent, const char* name, const std::vector<Vec3>& v) {
+  std::vector<double> flat;
+  flat.reserve(3 * v.size());
+  for (const auto& x : v) flat.insert(flat.end(), {x.x(), x.y(), x.z()});
+  write_doubles(parent, name, flat.data(), v.size(), 3);
+}
+
+void write_integers(hid_t parent, const char* name, const std::vector<std::int64_t>& v) {
+  write_array(parent, name, H5T_NATIVE_INT64, v.data(), v.size(), 1);
+}
+
+bool exists(hid_t parent, const char* name) {
+  return H5Lexists(parent, name, H5P_DEFAULT) > 0;
+}
+
+long dataset_size(hid_t parent, const std::string& file, const char* name) {
+  if (!exists(parent, name))
+    throw InputError(file + ": dataset '" + name + "' is missing; valid: a trackbed file");
+  Handle set(H5Dopen2(parent, name, H5P_DEFAULT), H5Dclose, std::string("open ") + name);
+  Handle space(H5Dget_space(set), H5Sclose, "dataspace");
+  return static_cast<long>(H5Sget_simple_extent_npoints(space));
+}
+
+void write_quaternions(hid_t parent, const char* name, const std::vector<Quat>& q) {
+  std::vector<double> flat;
+  for (const auto& r : q) flat.insert(flat.end(), {r.w(), r.x(), r.y(), r.z()});
+  write_doubles(parent, name, flat.data(), q.size(), 4);
+}
+
+std::vector<Quat> read_quaternions(hid_t parent, const std::string& file, const char* name,
+                                   long expected) {
+  const auto d = read_doubles(parent, file, name, expected < 0 ? -1 : 4 * expected);
+  if (d.size() % 4 != 0)
+    throw InputError(file + ": dataset '" + name + "' is not a list of quaternions");
+  std::vector<Quat> out;
+  for (std::size_t i = 0; i < d.size(); i += 4)
+    out.emplace_back(d[i], d[i + 1], d[i + 2], d[i + 3]);
+  return out;
+}
+
+std::vector<double> read_doubles(hid_t parent, const std::string& file, const char* name,
+                                 long expected) {
+  return read_array<double>(parent, file, name, H5T_NATIVE_DOUBLE, expected);
+}
+
+std::vector<Vec3> read_vectors(hid_t parent, const std::string& file, const char* name,
+                               long expected) {
+  const auto flat = read_doubles(parent, file, name, expected < 0 ? -1 : 3 * expected);
+  if (flat.size() % 3 != 0)
+    throw InputError(file + ": dataset '" + name + "' is not a list of 3-vectors");
+  std::vector<Vec3> v(flat.size() / 3);
+  for (std::size_t i = 0; i < v.size(); ++i)
+    v[i] = Vec3(flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]);
+  return v;
+}
+
+std::vector<std::int64_t> read_integers(hid_t parent, const std::string& file, const char* name,
+                                        long expected) {
+  return read_array<std::int64_t>(parent, file, name, H5T_NATIVE_INT64, expected);
+}
+
+void write_string_attribute(hid_t object, const char* name, const std::string& value) {
+  Handle type(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
+  H5Tset_size(type, value.empty() ? 1 : value.size());
+  H5Tset_strpad(type, H5T_STR_NULLPAD);
+  Handle space(H5Screate(H5S_SCALAR), H5Sclose, "dataspace");
+  Handle attr(H5Acreate2(object, name, type, space, H5P_DEFAULT, H5P_DEFAULT), H5Aclose,
+              std::string("create attribute ") + name);
+  const std::string stored = value.empty() ? std::string(1, '\0') : value;
+  if (H5Awrite(attr, type, stored.data()) < 0)
+    throw std::runtime_error(std::string("HDF5: write attribute ") + name + " failed");
+}
+
+std::string read_string_attribute(hid_t object, const std::string& file, const char* name) {
+  if (H5Aexists(object, name) <= 0)
+    throw InputError(file + ": attribute '" + name + "' is missing; valid: a trackbed file");
+  Handle attr(H5Aopen(object, name, H5P_DEFAULT), H5Aclose, std::string("open ") + name);
+  Handle type(H5Aget_type(attr), H5Tclose, "attribute type");
+  if (H5Tget_class(type) != H5T_STRING)
+    throw InputError(file + ": attribute '" + name + "' is not a string");
+  const std::size_t size = H5Tget_size(type);
+  std::string value(size, '\0');
+  Handle memtype(H5Tcopy(H5T_C_S1), H5Tclose, "string type");
+  H5Tset_size(memtype, size);
+  H5Tset_strpad(memtype, H5T_STR_NULLPAD);
+  if (H5Aread(attr, memtype, value.data()) < 0)
+    throw InputError(file + ": cannot read attribute '" + name + "'");
+  value.erase(value.find_last_not_of('\0') + 1);
+  return value;
+}
+
+bool has_format(hid_t file, const std::string& path, const std::string& format) {
+  return H5Aexists(file, "format") > 0 && read_string_attribute(file, path, "format") == format;
+}
+
+void write_strings(hid_t object, const char* name, const std::vector<std::string>& values) {
+  std::string joined;
+  for (std::size_t i = 0; i < values.size(); ++i) joined += (i ? "\n" : "") + values[i];
+  write_string_attribute(object, name, joined);
+}
+
+std::vector<std::string> read_strings(hid_t object, const std::string& file, const char* name) {
+  const std::string joined = read_string_attribute(object, file, name);
+  std::vector<std::string> out;
+  if (joined.empty()) return out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t nl = joined.find('\n', start);
+    out.push_back(joined.substr(start, nl == std::string::npos ? std::string::npos : nl - start));
+    if (nl == std::string::npos) break;
+    start = nl + 1;
+  }
+  return out;
+}
+
+}  // namespace trackbed::dem::hdf5

@@ -1,0 +1,78 @@
+// Small helpers over the HDF5 C API shared by the engine's HDF5 files (snapshots, samples):
+// owned identifiers, 1-D/2-D double and integer datasets, string attributes. Errors: a failed
+// HDF5 call throws std::runtime_error; a dataset a reader needs but the file lacks, or of the
+// wrong size, throws InputError naming the file and what is valid.
+#pragma once
+
+#include <hdf5.h>
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "dem/engine/types.h"
+
+namespace trackbed::dem::hdf5 {
+
+// Owns an HDF5 identifier and closes it with the matching function.
+class Handle {
+ public:
+  Handle(hid_t id, herr_t (*close)(hid_t), const std::string& what);
+  ~Handle() { close_(id_); }
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  operator hid_t() const { return id_; }
+
+ private:
+  hid_t id_;
+  herr_t (*close_)(hid_t);
+};
+
+// Opens a file for reading with HDF5's own error printing off; InputError naming `what` (what
+// would be valid) if it does not exist or is not an HDF5 file.
+hid_t open_for_reading(const std::string& path, const std::string& what);
+// Creates (truncates) a file for writing.
+hid_t create_file(const std::string& path);
+hid_t create_group(hid_t parent, const char* name);
+// Writes a whole file: creates PATH.part, lets `fill` write into it, closes it and renames it to
+// PATH, so that no reader (and no crash) sees it half-written; PATH.part is removed if `fill`
+// throws. `what` names the file in the error of a failed rename.
+void write_file(const std::string& path, const std::string& what,
+                const std::function<void(hid_t file)>& fill);
+// InputError if the group is missing.
+hid_t open_group(hid_t parent, const std::string& file, const char* name);
+
+// rows x cols doubles (cols == 1: a 1-D dataset).
+void write_doubles(hid_t parent, const char* name, const double* data, hsize_t rows, hsize_t cols);
+// A 1-D dataset.
+void write_doubles(hid_t parent, const char* name, const std::vector<double>& v);
+void write_vectors(hid_t parent, const char* name, const std::vector<Vec3>& v);
+// Quaternions as (w, x, y, z) rows.
+void write_quaternions(hid_t parent, const char* name, const std::vector<Quat>& q);
+void write_integers(hid_t parent, const char* name, const std::vector<std::int64_t>& v);
+
+bool exists(hid_t parent, const char* name);
+// The number of values of a dataset (InputError if it is missing).
+long dataset_size(hid_t parent, const std::string& file, const char* name);
+// Exactly `expected` values (all of them if expected < 0).
+std::vector<double> read_doubles(hid_t parent, const std::string& file, const char* name,
+                                 long expected = -1);
+std::vector<Vec3> read_vectors(hid_t parent, const std::string& file, const char* name,
+                               long expected = -1);
+std::vector<Quat> read_quaternions(hid_t parent, const std::string& file, const char* name,
+                                   long expected = -1);
+std::vector<std::int64_t> read_integers(hid_t parent, const std::string& file, const char* name,
+                                        long expected = -1);
+
+void write_string_attribute(hid_t object, const char* name, const std::string& value);
+// InputError if the attribute is missing.
+std::string read_string_attribute(hid_t object, const std::string& file, const char* name);
+// Whether `file`'s attribute `format` is `format` (false if it has none): the check by which
+// each reader refuses another kind of file, or another version.
+bool has_format(hid_t file, const std::string& path, const std::string& format);
+// A list of strings as one attribute, joined by newlines (names never contain one).
+void write_strings(hid_t object, const char* name, const std::vector<std::string>& values);
+std::vector<std::string> read_strings(hid_t object, const std::string& file, const char* name);
+
+}  // namespace trackbed::dem::hdf5
