@@ -8,6 +8,7 @@
 namespace trackbed::dem {
 
 void MeshBody::update_world_mesh() {
+  if (deformable) return;  // its world vertices are its state, moved from outside
   const Mat3 R = q.toRotationMatrix();
   for (std::size_t i = 0; i < local.vertices.size(); ++i)
     world.vertices[i] = x + R * local.vertices[i];
@@ -62,6 +63,33 @@ void MeshBody::integrate(double dt, const Vec3& g) {
   const double angle = w.norm() * dt;
   if (angle > 0) q = (Quat(Eigen::AngleAxisd(angle, w.normalized())) * q).normalized();
   update_world_mesh();
+}
+
+void MeshBody::make_deformable() {
+  static const char* kAxes[6] = {"x", "y", "z", "rx", "ry", "rz"};
+  for (int k = 0; k < 6; ++k)
+    if (dof[k].mode != DofMode::fixed)
+      throw InputError("mesh '" + name + "': its dof " + kAxes[k] +
+                       " is not fixed; valid: a deformable mesh moves by its vertices, every "
+                       "rigid-body degree of freedom fixed");
+  deformable = true;
+  v = w = Vec3::Zero();
+  const std::size_t n = world.vertices.size();
+  deformation.velocity.assign(n, Vec3::Zero());
+  deformation.load.assign(n, Vec3::Zero());
+  deformation.impulse.assign(n, Vec3::Zero());
+  deformation.impulse_time = 0;
+  deformation.at_build = world.vertices;
+  deformation.pending_move.assign(n, Vec3::Zero());
+}
+
+std::vector<Vec3> MeshDeformation::take_mean_load() {
+  std::vector<Vec3> mean = load;
+  if (impulse_time > 0)
+    for (std::size_t i = 0; i < mean.size(); ++i) mean[i] = impulse[i] / impulse_time;
+  std::fill(impulse.begin(), impulse.end(), Vec3::Zero());
+  impulse_time = 0;
+  return mean;
 }
 
 MeshBody MeshBody::from_world_mesh(std::string name, const TriangleMesh& mesh, int material,

@@ -35,6 +35,29 @@ struct DofControl {
   double relaxation = 0.5;  // automatic gain: fraction of the force error removed per step
 };
 
+// The state of a deformable mesh: one whose vertices are moved from outside (an FE boundary
+// under the ballast, coupling/) instead of by a rigid-body motion. Its world vertices move each
+// step by their velocities (set with Simulation::set_mesh_vertices, which may also set new
+// positions between steps); a contact's wall velocity is interpolated from its triangle's vertex
+// velocities with the contact point's barycentric weights, and its force is split to the three
+// vertices with the same weights (docs/theory.md, "Deformable mesh walls").
+struct MeshDeformation {
+  std::vector<Vec3> velocity;  // per vertex, world frame, m/s
+  // Per vertex: the particles' contact forces on the mesh in the last force pass, N, split to
+  // the vertices by barycentric weights; their sum is the body's contact_force.
+  std::vector<Vec3> load;
+  // Per vertex: the impulse of `load` summed over the force passes since the last
+  // take_mean_load(), N s, and the time it covers, s.
+  std::vector<Vec3> impulse;
+  double impulse_time = 0;
+  std::vector<Vec3> at_build;      // vertex positions at the last neighbour-list build
+  std::vector<Vec3> pending_move;  // displacement since the last force pass (wall work)
+
+  // The mean vertex loads over the interval since the last call (the impulses over their time;
+  // the last pass's loads if no time has passed), and a new interval begun.
+  std::vector<Vec3> take_mean_load();
+};
+
 struct MeshBody {
   std::string name;
   TriangleMesh local;  // vertices relative to the reference point, body frame; topology final
@@ -56,6 +79,14 @@ struct MeshBody {
   // Contact normal stiffness summed along each translational / rotational DOF (servo gain).
   Vec3 contact_stiffness = Vec3::Zero(), contact_rotational_stiffness = Vec3::Zero();
   std::vector<Vec3> part_force, part_moment;
+
+  // Deformable (make_deformable): the world vertices are the mesh's state; x, q stay fixed and
+  // every DOF must be fixed.
+  bool deformable = false;
+  MeshDeformation deformation;
+  // Makes the body deformable, its world vertices as they are now, at rest. Throws InputError
+  // naming the body if a DOF is not fixed.
+  void make_deformable();
 
   // Sets world vertices from (x, q).
   void update_world_mesh();

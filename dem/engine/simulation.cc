@@ -198,6 +198,8 @@ void Simulation::rebuild() {
   for (const auto& m : meshes_) plane_point_at_build_.push_back(m.x);
   mesh_q_at_build_.clear();
   for (const auto& m : meshes_) mesh_q_at_build_.push_back(m.q);
+  for (auto& m : meshes_)
+    if (m.deformable) m.deformation.at_build = m.world.vertices;
   pair_ranges_.clear();  // made again for the new list (compute_forces)
   ++builds_;
 }
@@ -224,6 +226,12 @@ bool Simulation::walls_moved(double half) const {
       return true;
   for (std::size_t m = 0; m < meshes_.size(); ++m) {
     const MeshBody& b = meshes_[m];
+    if (b.deformable) {
+      for (std::size_t v = 0; v < b.world.vertices.size(); ++v)
+        if ((b.world.vertices[v] - b.deformation.at_build[v]).squaredNorm() > half * half)
+          return true;
+      continue;
+    }
     // A bound on any vertex's displacement: translation plus rotation angle times reach.
     const double angle = b.q.angularDistance(mesh_q_at_build_[m]);
     const double d = (b.x - plane_point_at_build_[planes_.size() + m]).norm() + angle * b.reach();

@@ -114,6 +114,13 @@ class Simulation {
   std::vector<MeshBody>& meshes() { return meshes_; }
   // The index of the mesh body of that name in meshes(), or -1.
   int mesh_index(const std::string& name) const;
+  // Between steps: new world positions and velocities of every vertex of deformable mesh `mesh`
+  // (MeshBody::make_deformable). The vertices then move by these velocities each step until set
+  // again; a change of position here is a wall motion whose work enters the energy ledger.
+  // Throws std::invalid_argument for a mesh that is not deformable or sizes that differ from its
+  // vertex count, std::runtime_error for a non-finite value.
+  void set_mesh_vertices(int mesh, const std::vector<Vec3>& positions,
+                         const std::vector<Vec3>& velocities);
 
   // PFC's estimate: min over bodies and degrees of freedom of sqrt(m/k) and sqrt(I/k_rot) with
   // the stiffness summed over the body's current contacts (a body with none: one contact), with
@@ -189,6 +196,8 @@ class Simulation {
   // (a clump's rotation and its elements weigh more than a ball).
   std::vector<int> body_work_ranges(int parts) const;
   void move_walls();
+  // A deformable mesh's step: each vertex moved by its velocity, the motion's first-half work.
+  void move_deformable_mesh(MeshBody& m, double dt);
   // The second half of the work of the walls' last motion with their current loads, -(F . d +
   // M . theta) / 2 summed over the walls (move_walls, trapezoidal rule).
   double closing_wall_work() const;

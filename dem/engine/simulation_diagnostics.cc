@@ -109,6 +109,8 @@ double Simulation::closing_wall_work() const {
     else {
       const MeshBody& m = meshes_[k - planes_.size()];
       work -= 0.5 * (m.contact_force.dot(move) + m.contact_moment.dot(turn));
+      for (std::size_t v = 0; m.deformable && v < m.deformation.load.size(); ++v)
+        work -= 0.5 * m.deformation.load[v].dot(m.deformation.pending_move[v]);
     }
   }
   return work;

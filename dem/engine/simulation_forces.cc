@@ -205,9 +205,22 @@ void Simulation::mesh_forces(ThreadScratch& s) {
         }
         const Vec3 lever = pt.point - p_.x[b];
         const Vec3 wall_lever = pt.point - body.x;
-        kin.v_rel =
-            point_velocity(p_.v[b], p_.w[b], lever) - point_velocity(body.v, body.w, wall_lever);
-        kin.w_rel = p_.w[b] - body.w;
+        // A deformable mesh's velocity at the contact point: its triangle's vertex velocities
+        // with the point's barycentric weights (the point lies on the triangle); no spin.
+        Vec3 weights = Vec3::Zero();
+        if (body.deformable) {
+          const auto& tri = body.world.triangles[pt.triangle];
+          const auto& x = body.world.vertices;
+          weights = closest_point_on_triangle(pt.point, x[tri[0]], x[tri[1]], x[tri[2]]).barycentric;
+          const auto& u = body.deformation.velocity;
+          kin.v_rel = point_velocity(p_.v[b], p_.w[b], lever) -
+                      (weights[0] * u[tri[0]] + weights[1] * u[tri[1]] + weights[2] * u[tri[2]]);
+          kin.w_rel = p_.w[b];
+        } else {
+          kin.v_rel =
+              point_velocity(p_.v[b], p_.w[b], lever) - point_velocity(body.v, body.w, wall_lever);
+          kin.w_rel = p_.w[b] - body.w;
+        }
         kin.m_eff = p_.mass[b];
         kin.r_eff = r;
         const ContactProperties& prop = materials_.pair(body.material, p_.material[e]);
@@ -225,6 +238,9 @@ void Simulation::mesh_forces(ThreadScratch& s) {
         const int part = body.world.triangle_part[pt.triangle];
         s.part_f[m][part] -= force;
         s.part_t[m][part] -= moment;
+        if (body.deformable)
+          for (int k = 0; k < 3; ++k)
+            s.vertex_f[m][body.world.triangles[pt.triangle][k]] -= weights[k] * force;
       }
       for (int a = 0; a < S; ++a) {
         const bool live = a < used;
@@ -294,9 +310,11 @@ void Simulation::clear_thread_loads(ThreadScratch& s) {
   s.wall_kr.assign(nwalls, Vec3::Zero());
   s.part_f.resize(meshes_.size());
   s.part_t.resize(meshes_.size());
+  s.vertex_f.resize(meshes_.size());
   for (std::size_t m = 0; m < meshes_.size(); ++m) {
     s.part_f[m].assign(meshes_[m].local.part_names.size(), Vec3::Zero());
     s.part_t[m].assign(meshes_[m].local.part_names.size(), Vec3::Zero());
+    if (meshes_[m].deformable) s.vertex_f[m].assign(meshes_[m].world.vertices.size(), Vec3::Zero());
   }
   s.dissipation = Dissipation();
   s.max_overlap_ratio = 0;
@@ -325,6 +343,7 @@ void Simulation::reduce_thread_wall_loads() {
     m.contact_rotational_stiffness.setZero();
     for (auto& v : m.part_force) v.setZero();
     for (auto& v : m.part_moment) v.setZero();
+    for (auto& v : m.deformation.load) v.setZero();
   }
   double worst = 0;
   int wi = -1, wj = -1;
@@ -342,6 +361,8 @@ void Simulation::reduce_thread_wall_loads() {
         meshes_[m].part_force[k] += s.part_f[m][k];
         meshes_[m].part_moment[k] += s.part_t[m][k];
       }
+      for (std::size_t k = 0; k < s.vertex_f[m].size(); ++k)
+        meshes_[m].deformation.load[k] += s.vertex_f[m][k];
     }
     tally_.friction += s.dissipation.friction;
     tally_.rolling += s.dissipation.rolling;

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "dem/engine/rigid_rotation.h"
 #include "dem/engine/simulation.h"
@@ -120,15 +122,62 @@ void Simulation::move_walls() {
   }
   for (std::size_t k = 0; k < meshes_.size(); ++k) {
     MeshBody& m = meshes_[k];
+    if (m.deformable) {
+      move_deformable_mesh(m, dt);
+      continue;
+    }
     const Vec3 x0 = m.x;
     m.integrate(dt, settings_.gravity);
     tally(planes_.size() + k, m.contact_force, m.contact_moment, m.x - x0, m.w * dt);
   }
 }
 
+void Simulation::move_deformable_mesh(MeshBody& m, double dt) {
+  MeshDeformation& d = m.deformation;
+  for (std::size_t v = 0; v < m.world.vertices.size(); ++v) {
+    d.pending_move[v] = d.velocity[v] * dt;
+    tally_.wall_work -= 0.5 * d.load[v].dot(d.pending_move[v]);
+    m.world.vertices[v] += d.pending_move[v];
+  }
+}
+
+void Simulation::set_mesh_vertices(int mesh, const std::vector<Vec3>& positions,
+                                   const std::vector<Vec3>& velocities) {
+  if (mesh < 0 || mesh >= static_cast<int>(meshes_.size()) || !meshes_[mesh].deformable)
+    throw std::invalid_argument("set_mesh_vertices: mesh " + std::to_string(mesh) +
+                                " is not a deformable mesh of this model");
+  MeshBody& m = meshes_[mesh];
+  MeshDeformation& d = m.deformation;
+  const std::size_t n = m.world.vertices.size();
+  if (positions.size() != n || velocities.size() != n)
+    throw std::invalid_argument("set_mesh_vertices: mesh '" + m.name + "' has " +
+                                std::to_string(n) + " vertices, given " +
+                                std::to_string(positions.size()) + " positions and " +
+                                std::to_string(velocities.size()) + " velocities");
+  for (std::size_t v = 0; v < n; ++v)
+    if (!positions[v].allFinite() || !velocities[v].allFinite())
+      throw std::runtime_error("mesh '" + m.name + "': vertex " + std::to_string(v) +
+                               " was given a non-finite position or velocity");
+  // A jump between steps is a wall motion like a step's: its work by the trapezoidal rule, half
+  // with the loads now and half with the next force pass's (closing_wall_work).
+  for (std::size_t v = 0; v < n; ++v) {
+    const Vec3 jump = positions[v] - m.world.vertices[v];
+    tally_.wall_work -= 0.5 * d.load[v].dot(jump);
+    d.pending_move[v] += jump;
+  }
+  m.world.vertices = positions;
+  d.velocity = velocities;
+}
+
 void Simulation::step() {
   if (!ready_) setup();
   compute_forces();
+  for (MeshBody& m : meshes_)
+    if (m.deformable) {
+      MeshDeformation& d = m.deformation;
+      for (std::size_t v = 0; v < d.load.size(); ++v) d.impulse[v] += d.load[v] * settings_.time_step;
+      d.impulse_time += settings_.time_step;
+    }
   const bool elements_moved = integrate_bodies();
   move_walls();
   time_ += settings_.time_step;

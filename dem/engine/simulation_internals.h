@@ -17,6 +17,7 @@ struct Simulation::ThreadScratch {
   std::vector<Vec3> wall_f, wall_t;               // per plane, then per mesh body
   std::vector<Vec3> wall_k, wall_kr;              // contact stiffness along each DOF
   std::vector<std::vector<Vec3>> part_f, part_t;  // per mesh body, per part
+  std::vector<std::vector<Vec3>> vertex_f;  // per mesh body, per vertex (deformable ones only)
   Dissipation dissipation;
   double max_overlap_ratio = 0;
   int worst_i = -1, worst_j = -1;  // worst_i = -2 - wall index for a wall contact

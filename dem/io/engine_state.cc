@@ -27,7 +27,8 @@ EngineState Simulation::engine_state() const {
   for (const MeshBody& m : meshes_)
     s.meshes.push_back({m.name, m.x, m.v, m.w, m.q, m.dof, m.contact_force, m.contact_moment,
                         m.contact_stiffness, m.contact_rotational_stiffness, m.part_force,
-                        m.part_moment});
+                        m.part_moment, m.deformable ? m.world.vertices : std::vector<Vec3>{},
+                        m.deformation});
   for (const auto& [move, turn] : last_wall_motion_) {
     s.wall_move.push_back(move);
     s.wall_turn.push_back(turn);
@@ -114,10 +115,15 @@ void Simulation::restore_engine_state(EngineState s) {
                "'" + planes_[w].name + "'");
   if (s.meshes.size() != meshes_.size())
     mismatch("meshes:", text(s.meshes.size()), text(meshes_.size()));
-  for (std::size_t m = 0; m < meshes_.size(); ++m)
+  for (std::size_t m = 0; m < meshes_.size(); ++m) {
     if (s.meshes[m].name != meshes_[m].name ||
         s.meshes[m].part_force.size() != meshes_[m].local.part_names.size())
       mismatch("mesh " + text(m) + ":", "'" + s.meshes[m].name + "'", "'" + meshes_[m].name + "'");
+    const std::size_t vertices = meshes_[m].deformable ? meshes_[m].world.vertices.size() : 0;
+    if (s.meshes[m].vertices.size() != vertices)
+      mismatch("mesh '" + meshes_[m].name + "' deformable vertices:",
+               text(s.meshes[m].vertices.size()), text(vertices));
+  }
   const Particles& q = s.particles;
   if (q.num_bodies() != p_.num_bodies())
     mismatch("bodies:", text(q.num_bodies()), text(p_.num_bodies()));
@@ -173,6 +179,10 @@ void Simulation::restore_engine_state(EngineState s) {
     to.contact_rotational_stiffness = from.contact_rotational_stiffness;
     to.part_force = std::move(from.part_force);
     to.part_moment = std::move(from.part_moment);
+    if (to.deformable) {
+      to.world.vertices = std::move(from.vertices);
+      to.deformation = std::move(from.deformation);
+    }
     to.update_world_mesh();
   }
   last_wall_motion_.clear();
@@ -343,6 +353,16 @@ void write_engine_state(hid_t group, const EngineState& s) {
           {m.contact_force, m.contact_moment, m.contact_stiffness, m.contact_rotational_stiffness});
       hdf5::write_vectors(mg, "part_force", m.part_force);
       hdf5::write_vectors(mg, "part_moment", m.part_moment);
+      if (!m.vertices.empty()) {
+        const MeshDeformation& d = m.deformation;
+        hdf5::write_vectors(mg, "vertices", m.vertices);
+        hdf5::write_vectors(mg, "vertex_velocity", d.velocity);
+        hdf5::write_vectors(mg, "vertex_load", d.load);
+        hdf5::write_vectors(mg, "vertex_impulse", d.impulse);
+        hdf5::write_doubles(mg, "impulse_time", std::vector<double>{d.impulse_time});
+        hdf5::write_vectors(mg, "vertex_at_build", d.at_build);
+        hdf5::write_vectors(mg, "vertex_pending_move", d.pending_move);
+      }
     }
   }
   hdf5::write_vectors(group, "wall_move", s.wall_move);
@@ -435,6 +455,17 @@ EngineState read_engine_state(hid_t group, const std::string& file) {
       m.part_force = hdf5::read_vectors(mg, file, "part_force");
       m.part_moment =
           hdf5::read_vectors(mg, file, "part_moment", static_cast<long>(m.part_force.size()));
+      if (hdf5::exists(mg, "vertices")) {
+        m.vertices = hdf5::read_vectors(mg, file, "vertices");
+        const long n = static_cast<long>(m.vertices.size());
+        MeshDeformation& d = m.deformation;
+        d.velocity = hdf5::read_vectors(mg, file, "vertex_velocity", n);
+        d.load = hdf5::read_vectors(mg, file, "vertex_load", n);
+        d.impulse = hdf5::read_vectors(mg, file, "vertex_impulse", n);
+        d.impulse_time = hdf5::read_doubles(mg, file, "impulse_time", 1).front();
+        d.at_build = hdf5::read_vectors(mg, file, "vertex_at_build", n);
+        d.pending_move = hdf5::read_vectors(mg, file, "vertex_pending_move", n);
+      }
       s.meshes.push_back(std::move(m));
     }
   }

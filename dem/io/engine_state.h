@@ -44,6 +44,9 @@ struct EngineState {
     std::array<DofControl, 6> dof;
     Vec3 contact_force, contact_moment, contact_stiffness, contact_rotational_stiffness;
     std::vector<Vec3> part_force, part_moment;
+    // A deformable mesh's vertices and their state (empty vertices: a rigid mesh).
+    std::vector<Vec3> vertices;
+    MeshDeformation deformation;
   };
   std::vector<Mesh> meshes;
   // Each wall's (planes, then meshes) motion of the last step, whose work is completed with the

@@ -1,0 +1,156 @@
+// The DEM wall of an FE boundary and the maps across it (coupling/interface_wall.h), on an
+// elastic box with roller sides and a fixed base, its top the wall:
+//  - the wall has one vertex per FE corner of the top (no seams) and faces out of the box;
+//  - the load map and the motion map are transposes: sum_v F_v . u_v = f . U = 2 x strain energy;
+//  - a layer of frictionless balls resting on the deformable wall: the FE load is their weight,
+//    and the area-mean settlement of the top is F H / (M A) with M = E (1 - nu) / ((1 + nu)
+//    (1 - 2 nu)), exact for any distribution of the loads by reciprocity (the uniform pressure
+//    p gives the uniform settlement p H / M, and the work of one load system on the other's
+//    displacements is the same either way).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <random>
+#include <vector>
+
+#include "coupling/interface_wall.h"
+#include "dem/engine/mesh_body.h"
+#include "dem/engine/simulation.h"
+#include "fem/boundary_interface.h"
+#include "fem/elastic_body.h"
+#include "fem/material.h"
+
+namespace trackbed::coupling {
+namespace {
+
+using dem::Vec3;
+
+constexpr double kSide = 0.2, kHeight = 0.2;  // m
+const fem::Material kSoil{"soil", 1e8, 0.3, 1900};
+
+// The box [0, a]^2 x [-H, 0] of 4 x 4 x 4 trilinear cells, rollers on its sides, fixed at its
+// base, no gravity: its displacements are those the interface loads cause (the geostatic
+// state, measured from, is the origin of the coupling's displacements).
+std::unique_ptr<fem::ElasticBody> box() {
+  auto body = std::make_unique<fem::ElasticBody>(1, MPI_COMM_WORLD);
+  body->make_box({{{0, 0, -kHeight}}, {{kSide, kSide, 0}}, {{4, 4, 4}}, {}});
+  body->set_material(0, kSoil);
+  body->set_gravity({{0, 0, 0}});
+  body->fix(body->boundary_id("zmin"));
+  body->fix(body->boundary_id("xmin"), {{true, false, false}});
+  body->fix(body->boundary_id("xmax"), {{true, false, false}});
+  body->fix(body->boundary_id("ymin"), {{false, true, false}});
+  body->fix(body->boundary_id("ymax"), {{false, true, false}});
+  fem::SolverParameters solver;
+  solver.method = fem::SolverParameters::Method::direct;
+  body->set_solver(solver);
+  body->setup();
+  return body;
+}
+
+// The area mean of u_z over the top: the three edge-midpoint rule on each interface triangle,
+// exact for the bilinear field a trilinear element has on a flat face.
+double mean_top_settlement(const fem::BoundaryInterface& top) {
+  double integral = 0, area = 0;
+  const auto& triangles = top.triangles();
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const std::vector<fem::TrianglePoint> midpoints = {
+        {t, {{0.5, 0.5, 0}}}, {t, {{0, 0.5, 0.5}}}, {t, {{0.5, 0, 0.5}}}};
+    for (const auto& m : top.motion(midpoints)) integral += m[0][2] * triangles[t].area / 3;
+    area += triangles[t].area;
+  }
+  return -integral / area;
+}
+
+TEST(CouplingInterface, WallHasOneVertexPerCornerAndFacesOut) {
+  auto body = box();
+  fem::BoundaryInterface top(*body, "zmax");
+  const InterfaceWall wall(top, "zmax", MPI_COMM_WORLD);
+  EXPECT_EQ(wall.num_vertices(), 25u);  // 5 x 5 corners of the 4 x 4 faces, merged
+  EXPECT_EQ(wall.mesh().triangles.size(), 32u);
+  for (std::size_t t = 0; t < wall.mesh().triangles.size(); ++t)
+    EXPECT_NEAR(wall.mesh().triangle_normal(static_cast<int>(t)).z(), 1.0, 1e-12);
+}
+
+TEST(CouplingInterface, LoadAndMotionMapsAreTransposes) {
+  // Random vertex loads: their work on the vertex displacements equals f . U = u^T K u, twice
+  // the strain energy, to the direct solver's rounding (1e-10 relative).
+  auto body = box();
+  fem::BoundaryInterface top(*body, "zmax");
+  InterfaceWall wall(top, "zmax", MPI_COMM_WORLD);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> load(-10, 10);
+  std::vector<Vec3> f(wall.num_vertices());
+  Vec3 total = Vec3::Zero();
+  for (Vec3& v : f) total += (v = Vec3(load(rng), load(rng), load(rng) - 20));
+  wall.apply_vertex_loads(f);
+  const fem::LoadResultant resultant = body->interface_load_resultant({{0, 0, 0}});
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(resultant.force[c], total[c], 1e-12 * total.norm());
+  body->solve_static();
+  std::vector<Vec3> u, v;
+  wall.vertex_motion(u, v);
+  double work = 0;
+  for (std::size_t i = 0; i < f.size(); ++i) work += f[i].dot(u[i]);
+  const double strain = body->energies().strain;
+  EXPECT_GT(strain, 0);
+  EXPECT_NEAR(work, 2 * strain, 1e-10 * work);
+}
+
+TEST(CouplingInterface, RestingBallsLoadTheBoxByTheirWeight) {
+  auto body = box();
+  fem::BoundaryInterface top(*body, "zmax");
+  InterfaceWall wall(top, "zmax", MPI_COMM_WORLD);
+
+  // A 5 x 5 layer of frictionless balls, 40 mm apart (they do not touch each other), each set
+  // down with the overlap of its weight, on the wall made a deformable mesh.
+  dem::Material stone;
+  stone.name = "stone";
+  stone.density = 2650;
+  stone.normal_stiffness = stone.shear_stiffness = 2e6;  // 1e6 N/m per contact in series
+  stone.friction = 0;
+  stone.normal_damping_ratio = 0.9;
+  dem::MaterialTable materials;
+  materials.add(stone);
+  const double r = 0.019, mass = 4.0 / 3.0 * M_PI * r * r * r * stone.density;
+  dem::Particles balls;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j)
+      balls.add_ball(Vec3(0.02 + 0.04 * i, 0.02 + 0.04 * j, r - mass * 9.81 / 1e6), r, 0,
+                     stone.density, 5 * i + j);
+  dem::SimulationSettings settings;
+  settings.time_step = 1e-5;  // 0.04 of sqrt(m / k)
+  dem::Simulation sim(materials, std::move(balls), settings);
+  dem::MeshBody floor =
+      dem::MeshBody::from_world_mesh("zmax", wall.mesh(), 0, 0, Vec3::Zero());
+  floor.make_deformable();
+  const int m = sim.add_mesh_body(std::move(floor));
+  sim.setup();
+
+  // Two exchanges: settle, average the vertex loads over 0.01 s, solve, move the wall.
+  double applied = 0;
+  const std::vector<Vec3> reference = wall.mesh().vertices;
+  for (int exchange = 0; exchange < 2; ++exchange) {
+    for (int i = 0; i < 3000; ++i) sim.step();
+    sim.meshes()[m].deformation.take_mean_load();
+    for (int i = 0; i < 1000; ++i) sim.step();
+    const std::vector<Vec3> mean = sim.meshes()[m].deformation.take_mean_load();
+    wall.apply_vertex_loads(mean);
+    body->solve_static();
+    applied = -body->interface_load_resultant({{0, 0, 0}}).force[2];
+    std::vector<Vec3> u, v, x(reference.size());
+    wall.vertex_motion(u, v);
+    for (std::size_t k = 0; k < x.size(); ++k) x[k] = reference[k] + u[k];
+    sim.set_mesh_vertices(m, x, std::vector<Vec3>(x.size(), Vec3::Zero()));
+  }
+  // At rest (damping 0.9 of critical for 0.08 s, 290 periods) the wall carries the weight:
+  // 1e-6 is far above the residual of the decayed bounce.
+  const double weight = 25 * mass * 9.81;
+  EXPECT_NEAR(applied, weight, 1e-6 * weight);
+  const double M = kSoil.constrained_modulus();
+  EXPECT_NEAR(mean_top_settlement(top), applied * kHeight / (M * kSide * kSide),
+              1e-6 * applied * kHeight / (M * kSide * kSide));
+}
+
+}  // namespace
+}  // namespace trackbed::coupling
