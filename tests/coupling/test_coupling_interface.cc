@@ -14,7 +14,9 @@
 #include <random>
 #include <vector>
 
+#include "common/input_error.h"
 #include "coupling/interface_wall.h"
+#include "coupling/quasi_static_scheme.h"
 #include "dem/engine/mesh_body.h"
 #include "dem/engine/simulation.h"
 #include "fem/boundary_interface.h"
@@ -97,59 +99,118 @@ TEST(CouplingInterface, LoadAndMotionMapsAreTransposes) {
   EXPECT_NEAR(work, 2 * strain, 1e-10 * work);
 }
 
+// A 5 x 5 layer of frictionless balls, 40 mm apart (they do not touch each other), each set
+// down with the overlap of its weight, on the box's top made a deformable DEM wall.
+struct BallsOnBox {
+  std::unique_ptr<fem::ElasticBody> body = box();
+  fem::BoundaryInterface top{*body, "zmax"};
+  InterfaceWall wall{top, "zmax", MPI_COMM_WORLD};
+  std::unique_ptr<dem::Simulation> sim;
+  int mesh = -1;
+  double weight = 0;
+
+  BallsOnBox() {
+    dem::Material stone;
+    stone.name = "stone";
+    stone.density = 2650;
+    stone.normal_stiffness = stone.shear_stiffness = 2e6;  // 1e6 N/m per contact in series
+    stone.friction = 0;
+    stone.normal_damping_ratio = 0.9;
+    dem::MaterialTable materials;
+    materials.add(stone);
+    const double r = 0.019, mass = 4.0 / 3.0 * M_PI * r * r * r * stone.density;
+    dem::Particles balls;
+    for (int i = 0; i < 5; ++i)
+      for (int j = 0; j < 5; ++j)
+        balls.add_ball(Vec3(0.02 + 0.04 * i, 0.02 + 0.04 * j, r - mass * 9.81 / 1e6), r, 0,
+                       stone.density, 5 * i + j);
+    weight = 25 * mass * 9.81;
+    dem::SimulationSettings settings;
+    settings.time_step = 1e-5;  // 0.04 of sqrt(m / k)
+    sim = std::make_unique<dem::Simulation>(materials, std::move(balls), settings);
+    dem::MeshBody floor = dem::MeshBody::from_world_mesh("zmax", wall.mesh(), 0, 0, Vec3::Zero());
+    floor.make_deformable();
+    mesh = sim->add_mesh_body(std::move(floor));
+    sim->setup();
+  }
+  // F H / (M A): the area-mean settlement of the top under the total vertical load F.
+  static double settlement_of(double load) {
+    return load * kHeight / (kSoil.constrained_modulus() * kSide * kSide);
+  }
+};
+
 TEST(CouplingInterface, RestingBallsLoadTheBoxByTheirWeight) {
-  auto body = box();
-  fem::BoundaryInterface top(*body, "zmax");
-  InterfaceWall wall(top, "zmax", MPI_COMM_WORLD);
-
-  // A 5 x 5 layer of frictionless balls, 40 mm apart (they do not touch each other), each set
-  // down with the overlap of its weight, on the wall made a deformable mesh.
-  dem::Material stone;
-  stone.name = "stone";
-  stone.density = 2650;
-  stone.normal_stiffness = stone.shear_stiffness = 2e6;  // 1e6 N/m per contact in series
-  stone.friction = 0;
-  stone.normal_damping_ratio = 0.9;
-  dem::MaterialTable materials;
-  materials.add(stone);
-  const double r = 0.019, mass = 4.0 / 3.0 * M_PI * r * r * r * stone.density;
-  dem::Particles balls;
-  for (int i = 0; i < 5; ++i)
-    for (int j = 0; j < 5; ++j)
-      balls.add_ball(Vec3(0.02 + 0.04 * i, 0.02 + 0.04 * j, r - mass * 9.81 / 1e6), r, 0,
-                     stone.density, 5 * i + j);
-  dem::SimulationSettings settings;
-  settings.time_step = 1e-5;  // 0.04 of sqrt(m / k)
-  dem::Simulation sim(materials, std::move(balls), settings);
-  dem::MeshBody floor =
-      dem::MeshBody::from_world_mesh("zmax", wall.mesh(), 0, 0, Vec3::Zero());
-  floor.make_deformable();
-  const int m = sim.add_mesh_body(std::move(floor));
-  sim.setup();
-
-  // Two exchanges: settle, average the vertex loads over 0.01 s, solve, move the wall.
+  BallsOnBox c;
+  // Two exchanges by hand: settle, average the vertex loads over 0.01 s, solve, move the wall.
   double applied = 0;
-  const std::vector<Vec3> reference = wall.mesh().vertices;
+  const std::vector<Vec3> reference = c.wall.mesh().vertices;
   for (int exchange = 0; exchange < 2; ++exchange) {
-    for (int i = 0; i < 3000; ++i) sim.step();
-    sim.meshes()[m].deformation.take_mean_load();
-    for (int i = 0; i < 1000; ++i) sim.step();
-    const std::vector<Vec3> mean = sim.meshes()[m].deformation.take_mean_load();
-    wall.apply_vertex_loads(mean);
-    body->solve_static();
-    applied = -body->interface_load_resultant({{0, 0, 0}}).force[2];
+    for (int i = 0; i < 3000; ++i) c.sim->step();
+    c.sim->meshes()[c.mesh].deformation.take_mean_load();
+    for (int i = 0; i < 1000; ++i) c.sim->step();
+    const std::vector<Vec3> mean = c.sim->meshes()[c.mesh].deformation.take_mean_load();
+    c.wall.apply_vertex_loads(mean);
+    c.body->solve_static();
+    applied = -c.body->interface_load_resultant({{0, 0, 0}}).force[2];
     std::vector<Vec3> u, v, x(reference.size());
-    wall.vertex_motion(u, v);
+    c.wall.vertex_motion(u, v);
     for (std::size_t k = 0; k < x.size(); ++k) x[k] = reference[k] + u[k];
-    sim.set_mesh_vertices(m, x, std::vector<Vec3>(x.size(), Vec3::Zero()));
+    c.sim->set_mesh_vertices(c.mesh, x, std::vector<Vec3>(x.size(), Vec3::Zero()));
   }
   // At rest (damping 0.9 of critical for 0.08 s, 290 periods) the wall carries the weight:
   // 1e-6 is far above the residual of the decayed bounce.
-  const double weight = 25 * mass * 9.81;
-  EXPECT_NEAR(applied, weight, 1e-6 * weight);
-  const double M = kSoil.constrained_modulus();
-  EXPECT_NEAR(mean_top_settlement(top), applied * kHeight / (M * kSide * kSide),
-              1e-6 * applied * kHeight / (M * kSide * kSide));
+  EXPECT_NEAR(applied, c.weight, 1e-6 * c.weight);
+  const double expected = BallsOnBox::settlement_of(applied);
+  EXPECT_NEAR(mean_top_settlement(c.top), expected, 1e-6 * expected);
+}
+
+// The quasi-static scheme on the same bed: exchanges of 500 steps until the wall's displacement
+// is the FE body's for the bed's load (RMS residual 1e-6 of it), the load ramped over three.
+// Returns the exchanges it took.
+int converge(BallsOnBox& c, bool aitken) {
+  QuasiStaticParameters p;
+  p.interval_steps = 500;
+  p.ramp_exchanges = 3;
+  p.aitken = aitken;
+  p.tolerance = 1e-6;
+  QuasiStaticScheme scheme(*c.sim, c.mesh, *c.body, c.wall, p);
+  for (int k = 1; k <= 60; ++k) {
+    const ExchangeReport r = scheme.exchange();
+    EXPECT_LE(r.balance_error, 1e-10);  // (the scheme throws above it)
+    if (r.converged) {
+      // The mean load of an exchange includes the balls' change of momentum, 25 m dv / T, where
+      // the wall's velocity changed at its start (1e-7 m/s at the last steps here: 2e-6 of the
+      // weight). Two more exchanges: in the second the wall's velocity changes by under
+      // 1e-10 m/s, 1e-9 of the weight. The bed's load is then its weight, and the wall sits
+      // where the FE body puts it: the area-mean settlement of the top is F H / (M A).
+      scheme.exchange();
+      const ExchangeReport rest = scheme.exchange();
+      EXPECT_TRUE(rest.converged);
+      EXPECT_NEAR(rest.fe_load.z(), -c.weight, 1e-6 * c.weight);
+      const double expected = BallsOnBox::settlement_of(-rest.fe_load.z());
+      EXPECT_NEAR(mean_top_settlement(c.top), expected, 1e-6 * expected);
+      return k;
+    }
+  }
+  ADD_FAILURE() << "no convergence in 60 exchanges";
+  return 0;
+}
+
+TEST(CouplingInterface, QuasiStaticSchemeConvergesAitkenFaster) {
+  BallsOnBox fixed, dynamic;
+  const int plain = converge(fixed, false), aitken = converge(dynamic, true);
+  RecordProperty("exchanges_fixed_relaxation", plain);
+  RecordProperty("exchanges_aitken", aitken);
+  EXPECT_LT(aitken, plain);
+}
+
+TEST(CouplingInterface, QuasiStaticSchemeRefusesBadParameters) {
+  QuasiStaticParameters p;
+  p.relaxation = 1.5;
+  EXPECT_THROW(p.validate(), InputError);
+  p = QuasiStaticParameters();
+  p.interval_steps = 0;
+  EXPECT_THROW(p.validate(), InputError);
 }
 
 }  // namespace
