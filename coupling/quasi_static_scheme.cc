@@ -75,7 +75,6 @@ double QuasiStaticScheme::next_relaxation(const std::vector<dem::Vec3>& r) {
 ExchangeReport QuasiStaticScheme::exchange() {
   ExchangeReport report;
   report.exchange = ++exchanges_;
-  for (int i = 0; i < parameters_.interval_steps; ++i) sim_.step();
   const auto start = std::chrono::steady_clock::now();
 
   // DEM -> FE: the mean vertex loads, ramped.

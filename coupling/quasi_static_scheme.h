@@ -3,7 +3,8 @@
 // body's inertia does not matter.
 //
 // Each exchange, of T = interval_steps DEM steps:
-//   1. the DEM runs T steps, the interface wall moving at the velocities set at the last exchange;
+//   1. the DEM runs T steps (the caller steps it, with its outputs, between exchanges), the
+//      interface wall moving at the velocities set at the last exchange;
 //   2. the wall's vertex loads averaged over those steps (impulses over T) are applied to the FE
 //      body, times the ramp factor min(1, k / ramp_exchanges) at exchange k = 1, 2, ..., so a bed
 //      is not dropped onto a foundation that jumps at the start;
@@ -62,9 +63,11 @@ class QuasiStaticScheme {
   QuasiStaticScheme(dem::Simulation& sim, int mesh, fem::ElasticBody& body, InterfaceWall& wall,
                     const QuasiStaticParameters& parameters);
 
-  // One exchange (steps 1 to 5 above). Throws std::runtime_error when the load balance check
-  // fails or the interface displacement is not finite (a diverging coupling).
+  // The exchange after the caller's interval_steps DEM steps (steps 2 to 5 above). Throws
+  // std::runtime_error when the load balance check fails or the interface displacement is not
+  // finite (a diverging coupling).
   ExchangeReport exchange();
+  int interval_steps() const { return parameters_.interval_steps; }
 
   const std::vector<dem::Vec3>& interface_displacement() const { return u_; }
 
