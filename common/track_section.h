@@ -4,11 +4,11 @@
 // continuum layers under its base.
 //
 // Frame: x across the track, along the sleeper (the lateral push direction); y along the track,
-// the section over |y| <= length/2; z up, the ballast base (the formation) at z = 0. The sleeper is centred on x = y = 0 with its bottom at
-// z = depth_under_sleeper. The ballast fills, for |y| <= length/2, the trapezoid whose crest
-// (at the top of the sleeper, crest_z) reaches shoulder_width beyond each sleeper end and whose
-// slopes fall 1 : slope (vertical : horizontal) to the base; the crib between sleepers is filled
-// to the crest; the sleeper's own solid is not ballast.
+// the section over |y| <= length/2; z up, the ballast base (the formation) at z = 0. The sleeper is
+// centred on x = y = 0 with its bottom at z = depth_under_sleeper. The ballast fills, for |y| <=
+// length/2, the trapezoid whose crest (at the top of the sleeper, crest_z) reaches shoulder_width
+// beyond each sleeper end and whose slopes fall 1 : slope (vertical : horizontal) to the base; the
+// crib between sleepers is filled to the crest; the sleeper's own solid is not ballast.
 //
 // The ballast box test (cases/ballast_box/) is the same bed in a box: side walls at
 // x = +-half_crest_width instead of slopes (slope 0), and a wedge-shaped sleeper section, its

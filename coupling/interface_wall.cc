@@ -95,7 +95,7 @@ void InterfaceWall::apply_vertex_loads(const std::vector<dem::Vec3>& loads) {
 }
 
 void InterfaceWall::vertex_motion(std::vector<dem::Vec3>& displacement,
-                                 std::vector<dem::Vec3>& velocity) const {
+                                  std::vector<dem::Vec3>& velocity) const {
   // Each vertex has one owner and zeros elsewhere, so the sum over processes is exact.
   const std::size_t nv = mesh_.vertices.size();
   std::vector<double> local(6 * nv, 0.0), all(6 * nv);

@@ -35,8 +35,7 @@ void QuasiStaticParameters::validate() const {
     throw InputError("coupling: interval = " + std::to_string(interval_steps) +
                      " DEM steps; valid: an integer >= 1");
   if (!(relaxation > 0 && relaxation <= 1))
-    throw InputError("coupling: relaxation = " + number_text(relaxation) +
-                     "; valid: (0, 1]");
+    throw InputError("coupling: relaxation = " + number_text(relaxation) + "; valid: (0, 1]");
   if (!(tolerance > 0 && std::isfinite(tolerance)))
     throw InputError("coupling: tolerance = " + number_text(tolerance) + "; valid: > 0");
   if (ramp_exchanges < 1)
@@ -48,8 +47,7 @@ QuasiStaticScheme::QuasiStaticScheme(dem::Simulation& sim, int mesh, fem::Elasti
                                      InterfaceWall& wall, const QuasiStaticParameters& parameters)
     : sim_(sim), mesh_(mesh), body_(body), wall_(wall), parameters_(parameters) {
   parameters_.validate();
-  if (mesh < 0 || mesh >= static_cast<int>(sim.meshes().size()) ||
-      !sim.meshes()[mesh].deformable ||
+  if (mesh < 0 || mesh >= static_cast<int>(sim.meshes().size()) || !sim.meshes()[mesh].deformable ||
       sim.meshes()[mesh].world.vertices.size() != wall.num_vertices())
     throw std::invalid_argument(
         "QuasiStaticScheme: mesh " + std::to_string(mesh) +
@@ -118,8 +116,8 @@ ExchangeReport QuasiStaticScheme::exchange() {
   if (!std::isfinite(report.displacement))
     throw std::runtime_error("coupling: exchange " + std::to_string(report.exchange) +
                              ": the interface displacement is not finite (the coupling diverged)");
-  report.converged = report.ramp == 1.0 &&
-                     report.residual <= parameters_.tolerance * report.displacement;
+  report.converged =
+      report.ramp == 1.0 && report.residual <= parameters_.tolerance * report.displacement;
   report.fe_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;

@@ -51,7 +51,7 @@ struct ExchangeReport {
   double relaxation = 0;     // w_k used
   bool converged = false;
   unsigned int fe_iterations = 0;
-  double fe_seconds = 0;     // the FE solve and the maps
+  double fe_seconds = 0;  // the FE solve and the maps
 };
 
 class QuasiStaticScheme {

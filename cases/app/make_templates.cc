@@ -8,10 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "common/input_error.h"
 #include "dem/samples/ballast_stone.h"
 #include "dem/samples/bubble_pack.h"
 #include "dem/samples/closed_surface.h"
-#include "common/input_error.h"
 #include "dem/samples/template_library.h"
 
 namespace {

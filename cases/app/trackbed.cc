@@ -15,10 +15,10 @@
 #include <vector>
 
 #include "cases/parameters/case_parameters.h"
+#include "cases/parameters/sample_parameters.h"
 #include "cases/runs/dem_run.h"
 #include "cases/runs/run_checkpoint.h"
 #include "cases/runs/sample_checkpoint.h"
-#include "cases/parameters/sample_parameters.h"
 #include "cases/runs/sample_run.h"
 #include "common/input_error.h"
 
@@ -94,9 +94,8 @@ std::string first_difference(const std::string& then, const std::string& now) {
 // checkpoint `path` names is gone.
 void require_file(const std::string& path, const std::string& file, const std::string& what) {
   if (!std::filesystem::is_regular_file(file))
-    throw trackbed::InputError(path + ": the " + what + " " + file +
-                                    " is missing; valid: the " + what +
-                                    " it started from, where it was");
+    throw trackbed::InputError(path + ": the " + what + " " + file + " is missing; valid: the " +
+                               what + " it started from, where it was");
 }
 
 // Throws InputError when the file's parameters (fingerprint `now`) differ from those it started
@@ -105,7 +104,7 @@ void require_unchanged(const std::string& file, const std::string& then, const s
   const std::string changed = first_difference(then, now);
   if (!changed.empty())
     throw trackbed::InputError(file + " has changed since it started: " + changed +
-                                    "; valid: the file as it was, or a new start");
+                               "; valid: the file as it was, or a new start");
 }
 
 // The threads of a resumed run or build: those asked for, else the checkpoint's.

@@ -196,12 +196,11 @@ void expand(const std::string& path, ExpandedFile& out, int depth) {
       const fs::path target =
           fs::path(name).is_absolute() ? fs::path(name) : fs::path(path).parent_path() / name;
       const std::string where = path + ":" + std::to_string(number) + ": include " + name;
-      if (depth >= 16)
-        throw InputError(where + ": includes nested more than 16 deep (a cycle?)");
+      if (depth >= 16) throw InputError(where + ": includes nested more than 16 deep (a cycle?)");
       if (!fs::exists(target))
         throw InputError(where +
-                              ": file not found; valid: a path relative to the folder "
-                              "of the including file");
+                         ": file not found; valid: a path relative to the folder "
+                         "of the including file");
       expand(target.lexically_normal().string(), out, depth + 1);
       continue;
     }
@@ -230,8 +229,7 @@ std::string ValueFolders::resolve(const std::string& key, const std::string& val
 ValueFolders parse_parameter_file(dealii::ParameterHandler& prm, const std::string& path,
                                   const std::string& print_command) {
   if (!std::filesystem::exists(path))
-    throw InputError(path + ": file not found; valid: a .prm file (see '" + print_command +
-                          "')");
+    throw InputError(path + ": file not found; valid: a .prm file (see '" + print_command + "')");
   ExpandedFile file;
   expand(path, file, 0);
   try {

@@ -72,8 +72,7 @@ void declare(ParameterHandler& prm) {
                     "Porosity under the sleeper that compaction aims at (reached from above)");
   prm.declare_entry("overfill", number_text(b.overfill), Double(0, 1),
                     "Extra volume deposited above the crest, fraction of the box volume");
-  prm.declare_entry("cloud solid fraction", number_text(b.cloud_solid_fraction),
-                    Double(0.01, 0.35),
+  prm.declare_entry("cloud solid fraction", number_text(b.cloud_solid_fraction), Double(0.01, 0.35),
                     "Solid fraction of the loose cloud placed by random addition");
   prm.declare_entry("deposition damping", number_text(b.deposition_damping), Double(0, 0.999),
                     "Ballast local damping while the cloud falls");
@@ -110,8 +109,7 @@ void declare(ParameterHandler& prm) {
                     "s simulated per stage at most");
   prm.declare_entry("time step", "0", Double(0, 1),
                     "s; 0: critical timestep fraction x the critical step of the loose cloud");
-  prm.declare_entry("critical timestep fraction", number_text(b.critical_fraction),
-                    Double(1e-3, 1),
+  prm.declare_entry("critical timestep fraction", number_text(b.critical_fraction), Double(1e-3, 1),
                     "Of the loose cloud's critical step (one contact per body: 0.35 anticipates "
                     "about 8 in the packed bed)");
   prm.declare_entry("verlet skin", number_text(b.skin), Double(1e-6, 1), "m");
@@ -185,7 +183,8 @@ std::string preset_zone(const std::string& preset, const TrackSection& s) {
   // The paper's half-by-height model: balls in the bottom 265 mm, clumps in the 80 mm under the
   // sleeper (depth 350 mm) and in the crib; kept in proportion for other depths.
   const double split = s.depth_under_sleeper * 265.0 / 350.0;
-  if (preset == "half-by-height") return "halfspace(0, 0, " + exact_number_text(split) + ", 0, 0, -1)";
+  if (preset == "half-by-height")
+    return "halfspace(0, 0, " + exact_number_text(split) + ", 0, 0, -1)";
   if (preset == "optimised") {
     // Under and beside the sleeper down to 50 mm (at depth 350 mm) below it, and the shoulder
     // wedge in front of the pushed (+x) end, from that level at the sleeper end up to the crest
@@ -193,11 +192,13 @@ std::string preset_zone(const std::string& preset, const TrackSection& s) {
     const double bottom = s.depth_under_sleeper * (1 - 50.0 / 350.0);
     const double top = s.crest_z() + s.sleeper_height;  // above every stone centre
     const double half = 0.5 * s.sleeper_length, y = s.length;
-    return "box(" + exact_number_text(-half) + ", " + exact_number_text(-y) + ", " + exact_number_text(bottom) + ", " +
-           exact_number_text(half) + ", " + exact_number_text(y) + ", " + exact_number_text(top) + ") | prism(y, " +
-           exact_number_text(-y) + ", " + exact_number_text(y) + ", " + exact_number_text(half) + ", " + exact_number_text(bottom) +
-           ", " + exact_number_text(s.half_crest_width()) + ", " + exact_number_text(s.crest_z()) + ", " +
-           exact_number_text(s.half_crest_width()) + ", " + exact_number_text(top) + ", " + exact_number_text(half) + ", " +
+    return "box(" + exact_number_text(-half) + ", " + exact_number_text(-y) + ", " +
+           exact_number_text(bottom) + ", " + exact_number_text(half) + ", " +
+           exact_number_text(y) + ", " + exact_number_text(top) + ") | prism(y, " +
+           exact_number_text(-y) + ", " + exact_number_text(y) + ", " + exact_number_text(half) +
+           ", " + exact_number_text(bottom) + ", " + exact_number_text(s.half_crest_width()) +
+           ", " + exact_number_text(s.crest_z()) + ", " + exact_number_text(s.half_crest_width()) +
+           ", " + exact_number_text(top) + ", " + exact_number_text(half) + ", " +
            exact_number_text(top) + ")";
   }
   throw InputError("zone preset '" + preset + "' is unknown; valid: " + kPresets);
@@ -259,7 +260,7 @@ SampleParameters read_sample_file(const std::string& path) {
     if (end == friction.c_str() || *end != '\0' || !(b.deposition_friction >= 0) ||
         b.deposition_friction > 1)
       throw InputError(path + ": build/deposition friction factor = '" + friction +
-                            "'; valid: auto or a number in [0, 1]");
+                       "'; valid: auto or a number in [0, 1]");
   }
   b.calibration.factors = dealii::Utilities::string_to_double(
       dealii::Utilities::split_string_list(prm.get("calibration friction factors")));
@@ -282,11 +283,11 @@ SampleParameters read_sample_file(const std::string& path) {
   const std::string custom = prm.get("clump zone");
   if (p.preset == "custom" && custom.empty())
     throw InputError(path +
-                          ": zone/clump zone is empty; valid: a zone expression "
-                          "(docs/zones.md) when zone/preset = custom");
+                     ": zone/clump zone is empty; valid: a zone expression "
+                     "(docs/zones.md) when zone/preset = custom");
   if (p.preset != "custom" && !custom.empty())
     throw InputError(path + ": zone/clump zone is given but zone/preset = " + p.preset +
-                          "; valid: preset = custom with a clump zone, or no clump zone");
+                     "; valid: preset = custom with a clump zone, or no clump zone");
   p.zone_text = custom;
   p.zone_folder = folders.folder_of("zone/clump zone");
   // Parsed here so that a bad zone stops the run before anything is built.
@@ -303,8 +304,8 @@ SampleParameters read_sample_file(const std::string& path) {
   p.conversion.growth_step_factor = prm.get_double("growth step factor");
   if (p.conversion.growth_step_factor > 1 && p.conversion.growth_step == dem::GrowthStep::probe)
     throw InputError(path + ": zone/growth step factor = " + prm.get("growth step factor") +
-                          " with zone/growth step = probe (a fixed step); valid: 1, or growth "
-                          "step = renewed");
+                     " with zone/growth step = probe (a fixed step); valid: 1, or growth "
+                     "step = renewed");
   p.conversion.orientation_trials = prm.get_integer("orientation trials");
   p.conversion.equilibrium_ratio = prm.get_double("equilibrium ratio");
   p.conversion.max_stage_time = prm.get_double("maximum settling time");
@@ -313,8 +314,8 @@ SampleParameters read_sample_file(const std::string& path) {
   if (p.conversion.densification_ratio > 0 &&
       p.conversion.densification_ratio <= p.conversion.equilibrium_ratio)
     throw InputError(path + ": zone/densification ratio = " + prm.get("densification ratio") +
-                          " is not above zone/equilibrium ratio = " + prm.get("equilibrium ratio") +
-                          "; valid: 0 (one settling stage) or a ratio above the equilibrium's");
+                     " is not above zone/equilibrium ratio = " + prm.get("equilibrium ratio") +
+                     "; valid: 0 (one settling stage) or a ratio above the equilibrium's");
   p.conversion.seed = prm.get_integer("seed");
   p.conversion.skin = b.skin;
   prm.leave_subsection();

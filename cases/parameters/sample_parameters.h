@@ -16,8 +16,8 @@ namespace trackbed::cases {
 struct SampleParameters {
   std::string file;                // the sample file this came from
   dem::SampleBuildSettings build;  // section, materials, grading and the build stages
-  // Zone of clumps: a preset or an expression (dem/samples/zone.h). all-ball builds the ball sample;
-  // anything else converts the balls in the zone of `base_sample` (built first when empty).
+  // Zone of clumps: a preset or an expression (dem/samples/zone.h). all-ball builds the ball
+  // sample; anything else converts the balls in the zone of `base_sample` (built first when empty).
   std::string preset = "all-ball";
   std::string zone_text;    // the custom zone (a preset's is made for the base sample's section)
   std::string zone_folder;  // where the zone's relative names (pilot runs) resolve

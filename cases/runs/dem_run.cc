@@ -99,8 +99,8 @@ void DemRun::build_model() {
     if (!g.clump_template.empty()) {
       const auto it = templates.find(g.clump_template);
       if (it == templates.end())
-        throw InputError(prm_.file + ": particles/generator/clump template '" +
-                              g.clump_template + "' is not among particles/templates");
+        throw InputError(prm_.file + ": particles/generator/clump template '" + g.clump_template +
+                         "' is not among particles/templates");
       spec.clump_template = &it->second;
     }
     spec.material = material_index(materials, g.material, prm_.file + ": particles/generator");
@@ -168,8 +168,8 @@ void DemRun::build_model() {
       const auto mode = m.dof[d].mode;
       if ((mode == dem::DofMode::free || mode == dem::DofMode::force) && !(body.mass > 0))
         throw InputError(where +
-                              ": a free or force-loaded degree of freedom needs a mass; "
-                              "valid: set 'density' (closed mesh) or 'mass' > 0");
+                         ": a free or force-loaded degree of freedom needs a mass; "
+                         "valid: set 'density' (closed mesh) or 'mass' > 0");
     }
     sim_->add_mesh_body(std::move(body));
   }
@@ -380,7 +380,7 @@ void DemRun::find_tracked_bodies() {
     const auto it = std::find(ids.begin(), ids.end(), id);
     if (it == ids.end())
       throw InputError(prm_.file + ": output/tracked bodies: no body with id " +
-                            std::to_string(id) + "; valid: 0 to " + std::to_string(ids.size() - 1));
+                       std::to_string(id) + "; valid: 0 to " + std::to_string(ids.size() - 1));
     tracked_.push_back(static_cast<int>(it - ids.begin()));
   }
 }
@@ -421,9 +421,9 @@ void DemRun::start_from(RunCheckpoint& c) {
   // The push test checks the case's push DOF before the checkpoint's controls replace it.
   make_push_test();
   if (c.has_push != (push_ != nullptr))
-    throw InputError(prm_.file + ": the checkpoint " +
-                          std::string(c.has_push ? "has" : "has no") + " push test and the case " +
-                          (push_ ? "has" : "has none") + "; valid: the case the run started from");
+    throw InputError(prm_.file + ": the checkpoint " + std::string(c.has_push ? "has" : "has no") +
+                     " push test and the case " + (push_ ? "has" : "has none") +
+                     "; valid: the case the run started from");
   const long step = c.engine.steps;
   sim_->restore_engine_state(std::move(c.engine));
   if (push_) push_->resume(c.push);

@@ -19,8 +19,8 @@
 #include "cases/runs/push_test.h"
 #include "cases/runs/run_checkpoint.h"
 #include "dem/engine/contact_state.h"
-#include "dem/io/sample.h"
 #include "dem/engine/simulation.h"
+#include "dem/io/sample.h"
 #include "dem/io/vtu_writer.h"
 
 namespace trackbed::cases {

@@ -4,9 +4,9 @@
 #include <cmath>
 #include <iomanip>
 
-#include "dem/io/atomic_file.h"
 #include "common/input_error.h"
 #include "dem/engine/sleeper_support.h"
+#include "dem/io/atomic_file.h"
 
 namespace trackbed::cases {
 
@@ -21,20 +21,20 @@ PushTest::PushTest(PushTestParameters prm, dem::Simulation& sim, const std::stri
   const std::string where = case_file + ": push test/mesh = " + prm_.mesh;
   if (mesh_ < 0)
     throw InputError(where + ": no mesh of this name in 'meshes'" +
-                          (meshes.empty() ? "" : "; valid: " + meshes.front().name));
+                     (meshes.empty() ? "" : "; valid: " + meshes.front().name));
   const dem::MeshBody& body = meshes[mesh_];
   const dem::DofControl& dof = body.dof[prm_.axis];
   if (dof.mode != dem::DofMode::velocity || dof.value == 0)
     throw InputError(where + ": its 'dof " + std::string(1, kAxes[prm_.axis]) +
-                          "' must be 'velocity V' with V != 0 (the push velocity, m/s)");
+                     "' must be 'velocity V' with V != 0 (the push velocity, m/s)");
   velocity_ = dof.value;
   weight_ = body.mass * sim.settings().gravity.norm();
   parts_ = body.local.part_names;
   start_ = body.x[prm_.axis];  // held: the push DOF does not move during the hold
   if (prm_.free_during_hold && body.mass <= 0)
     throw InputError(where +
-                          ": push test/hold along the push = free needs the mesh's mass; "
-                          "valid: 'fixed', or a mesh with a mass (a sample's sleeper, a density)");
+                     ": push test/hold along the push = free needs the mesh's mass; "
+                     "valid: 'fixed', or a mesh with a mass (a sample's sleeper, a density)");
   if (prm_.path.empty()) prm_.path = {prm_.distance};
 }
 
@@ -158,16 +158,16 @@ void PushTest::resume(const Progress& p) {
   for (const auto& v : p.rows)
     if (v.size() != columns)
       throw InputError("push test: a saved row has " + std::to_string(v.size()) +
-                            " numbers; valid: " + std::to_string(columns) + " for the mesh '" +
-                            prm_.mesh + "' and its parts");
+                       " numbers; valid: " + std::to_string(columns) + " for the mesh '" +
+                       prm_.mesh + "' and its parts");
   if (!p.start_support.empty() && p.start_support.size() != 2 * parts_.size() + 1)
     throw InputError("push test: the saved support at the push start has " +
-                          std::to_string(p.start_support.size()) +
-                          " numbers; valid: " + std::to_string(2 * parts_.size() + 1) +
-                          " for the mesh '" + prm_.mesh + "' and its parts");
+                     std::to_string(p.start_support.size()) +
+                     " numbers; valid: " + std::to_string(2 * parts_.size() + 1) +
+                     " for the mesh '" + prm_.mesh + "' and its parts");
   if (p.leg < 0 || p.leg > static_cast<long>(prm_.path.size()))
     throw InputError("push test: the saved leg " + std::to_string(p.leg) +
-                          " is not one of the path's " + std::to_string(prm_.path.size()));
+                     " is not one of the path's " + std::to_string(prm_.path.size()));
   start_ = p.start, push_start_ = p.push_start, hold_ratio_ = p.hold_ratio;
   leg_ = static_cast<std::size_t>(p.leg), confirmations_ = p.confirmations;
   hold_converged_ = p.hold_converged;

@@ -1,9 +1,9 @@
-// A push test of a mesh body (the single-sleeper lateral resistance test of the paper (Jia, Markine and Guo 2023)): the
-// body is held until the bed is in equilibrium under the case's contact law (a sample built with
-// other contacts, e.g. with rolling resistance that the case removes, first re-settles), then
-// moves at the constant velocity of its push DOF until it has moved `distance`; its resistance is
-// recorded against its displacement, split by the named parts of its mesh (a sleeper's base,
-// sides facing the cribs, ends facing the shoulders).
+// A push test of a mesh body (the single-sleeper lateral resistance test of the paper (Jia, Markine
+// and Guo 2023)): the body is held until the bed is in equilibrium under the case's contact law (a
+// sample built with other contacts, e.g. with rolling resistance that the case removes, first
+// re-settles), then moves at the constant velocity of its push DOF until it has moved `distance`;
+// its resistance is recorded against its displacement, split by the named parts of its mesh (a
+// sleeper's base, sides facing the cribs, ends facing the shoulders).
 //
 //   equilibrium: mean unbalanced force ratio (Simulation::unbalanced_force_ratio) below
 //                `equilibrium ratio` at 3 checks in a row, 200 steps apart, after `minimum hold`;

@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "dem/io/hdf5_io.h"
 #include "common/input_error.h"
+#include "dem/io/hdf5_io.h"
 
 namespace trackbed::cases {
 
@@ -69,8 +69,8 @@ void write_run_checkpoint(const std::string& path, const RunCheckpoint& c) {
 RunCheckpoint read_run_checkpoint(const std::string& path) {
   Handle file(hdf5::open_for_reading(path, kWhat), H5Fclose, "open " + path);
   if (!hdf5::has_format(file, path, kFormat))
-    throw InputError(path + ": not a trackbed checkpoint of this version; valid: " + kWhat +
-                          " (" + kFormat + ")");
+    throw InputError(path + ": not a trackbed checkpoint of this version; valid: " + kWhat + " (" +
+                     kFormat + ")");
   RunCheckpoint c;
   c.version = hdf5::read_string_attribute(file, path, "version");
   c.case_file = hdf5::read_string_attribute(file, path, "case_file");

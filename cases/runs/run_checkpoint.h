@@ -1,6 +1,6 @@
-// Checkpoints of a run (`trackbed run`): the engine's complete state (dem/io/engine_state.h) with the
-// run's own, so that `trackbed resume DIR` continues an interrupted run from its last checkpoint
-// and ends it bit for bit as the uninterrupted run would have (same case, same threads):
+// Checkpoints of a run (`trackbed run`): the engine's complete state (dem/io/engine_state.h) with
+// the run's own, so that `trackbed resume DIR` continues an interrupted run from its last
+// checkpoint and ends it bit for bit as the uninterrupted run would have (same case, same threads):
 //   - the case it runs: its file and the fingerprint of its parameters (case_parameters.h);
 //   - what the run has written: the bytes of each CSV history, the times of the ParaView frames;
 //   - its clocks and counters: next history row, frame and snapshot, the start's energy and

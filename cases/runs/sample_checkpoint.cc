@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <cstdio>
 
-#include "dem/io/hdf5_io.h"
 #include "common/input_error.h"
+#include "dem/io/hdf5_io.h"
 
 namespace trackbed::cases {
 
@@ -174,8 +174,8 @@ bool is_sample_checkpoint(const std::string& path) {
 SampleCheckpoint read_sample_checkpoint(const std::string& path) {
   Handle file(hdf5::open_for_reading(path, kWhat), H5Fclose, "open " + path);
   if (!hdf5::has_format(file, path, kFormat))
-    throw InputError(path + ": not a sample build checkpoint of this version; valid: " +
-                          kWhat + " (" + kFormat + ")");
+    throw InputError(path + ": not a sample build checkpoint of this version; valid: " + kWhat +
+                     " (" + kFormat + ")");
   SampleCheckpoint c;
   c.version = hdf5::read_string_attribute(file, path, "version");
   c.sample_file = hdf5::read_string_attribute(file, path, "sample_file");
@@ -187,7 +187,7 @@ SampleCheckpoint read_sample_checkpoint(const std::string& path) {
                                : std::string(kConversion);
   if (part != kBallBuild && part != kConversion)
     throw InputError(path + ": part = '" + part + "'; valid: '" + kBallBuild + "' or '" +
-                          kConversion + "'; the file is damaged");
+                     kConversion + "'; the file is damaged");
   c.in_ball_build = part == kBallBuild;
   dem::BuildCheckpoint& b = c.ball_build;
   dem::ConversionCheckpoint& v = c.conversion;
@@ -201,9 +201,8 @@ SampleCheckpoint read_sample_checkpoint(const std::string& path) {
   const int stage = static_cast<int>(n[0]);
   const int last = (c.in_ball_build ? dem::kBuildStages : dem::kConversionStages) - 1;
   if (stage < 0 || stage > last)
-    throw InputError(path + ": build/counters names stage " + std::to_string(stage) +
-                          " of the " + part + "; valid: 0 to " + std::to_string(last) +
-                          "; the file is damaged");
+    throw InputError(path + ": build/counters names stage " + std::to_string(stage) + " of the " +
+                     part + "; valid: 0 to " + std::to_string(last) + "; the file is damaged");
   dem::StagePoint& at = c.in_ball_build ? b.point : v.point;
   at.steps = std::lround(n[1]);
   at.below = static_cast<int>(n[2]);
@@ -222,8 +221,8 @@ SampleCheckpoint read_sample_checkpoint(const std::string& path) {
   const auto values = hdf5::read_strings(build, path, "note_values");
   if (keys.size() != values.size())
     throw InputError(path +
-                          ": build/note_keys and note_values differ in length; the file "
-                          "is damaged");
+                     ": build/note_keys and note_values differ in length; the file "
+                     "is damaged");
   for (std::size_t k = 0; k < keys.size(); ++k) c.notes.push_back({keys[k], values[k]});
   std::vector<std::string> stages;
   const auto flat = read_table(build, path, "history", stages, kHistoryColumns);

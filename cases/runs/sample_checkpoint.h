@@ -1,8 +1,8 @@
 // Checkpoints of a sample build (`trackbed build-sample`), in its ball build or in its conversion
 // of balls to clumps: the running stage and the engine's state there (dem/samples/sample_builder.h,
-// dem/samples/clump_conversion.h) with the build's own, so that `trackbed resume DIR` goes on from the
-// last checkpoint and ends the build bit for bit as the uninterrupted one would have (same sample
-// file, same threads):
+// dem/samples/clump_conversion.h) with the build's own, so that `trackbed resume DIR` goes on from
+// the last checkpoint and ends the build bit for bit as the uninterrupted one would have (same
+// sample file, same threads):
 //   - the sample file it builds: its path and the fingerprint of its parameters, and, in a
 //     conversion, a digest of the base sample it converts (a base rebuilt since would convert to
 //     another bed);
@@ -18,8 +18,8 @@
 #include <utility>
 #include <vector>
 
-#include "dem/samples/clump_conversion.h"
 #include "dem/io/sample.h"
+#include "dem/samples/clump_conversion.h"
 #include "dem/samples/sample_builder.h"
 
 namespace trackbed::cases {

@@ -120,9 +120,9 @@ dem::Sample SampleRun::convert(const dem::Sample& base, dem::ConversionCheckpoin
   base_digest_ = sample_digest(base);
   if (from && from_digest_ != base_digest_)
     throw InputError(prm_.file +
-                          ": the base sample has changed since the build started "
-                          "(another file, or built again); valid: the base sample it started "
-                          "from, or a new build");
+                     ": the base sample has changed since the build started "
+                     "(another file, or built again); valid: the base sample it started "
+                     "from, or a new build");
   dem::Sample sample = conversion.run(from);
   const dem::ConversionReport& r = conversion.report();
   stages_.insert(stages_.end(), r.stages.begin(), r.stages.end());
@@ -216,8 +216,8 @@ int SampleRun::build(SampleCheckpoint* from) {
       const dem::Sample base = dem::read_sample(prm_.base_sample);
       if (base.particles.num_clumps() > 0 && base.num_balls() == 0)
         throw InputError(prm_.base_sample +
-                              ": the base sample has no balls to convert; "
-                              "valid: a ball sample (zone preset all-ball)");
+                         ": the base sample has no balls to convert; "
+                         "valid: a ball sample (zone preset all-ball)");
       convert(base, in_conversion);
     } else if (in_conversion) {
       convert(dem::read_sample(out_ + "/base.h5"), in_conversion);  // built by the interrupted run
@@ -366,8 +366,8 @@ void SampleRun::write_summary(const dem::Sample& sample, const dem::Simulation& 
       {"peak_memory_mb", "peak resident memory", "MB", number(usage.ru_maxrss / 1024.0)},
   };
   if (const int k = sim.mesh_index(dem::SectionModel::kSleeperName); k >= 0) {
-    // Where the seated sleeper gets its support (dem/engine/sleeper_support.h): a sleeper balanced on a
-    // few stones pushes differently from one carried along its length.
+    // Where the seated sleeper gets its support (dem/engine/sleeper_support.h): a sleeper balanced
+    // on a few stones pushes differently from one carried along its length.
     const dem::SleeperSupport support = dem::sleeper_support(sim, k);
     for (const auto& part : support.parts) {
       items.push_back({"sleeper_" + part.name + "_contacts", "sleeper contacts, " + part.name, "",

@@ -19,8 +19,8 @@
 #include <utility>
 #include <vector>
 
-#include "cases/runs/sample_checkpoint.h"
 #include "cases/parameters/sample_parameters.h"
+#include "cases/runs/sample_checkpoint.h"
 #include "dem/io/sample.h"
 #include "dem/samples/settling.h"
 #include "dem/samples/zone.h"

@@ -130,7 +130,6 @@ TriangleClosestPoint closest_point_on_triangle(const Vec3& p, const Vec3& a, con
   return {a + ab * v + ac * w, MeshFeature::Face, 0, Vec3(1 - v - w, v, w)};
 }
 
-
 // ---- sphere-mesh contacts ---------------------------------------------------------------------
 
 void sphere_mesh_contacts(const TriangleMesh& mesh, const Vec3& centre, double radius,

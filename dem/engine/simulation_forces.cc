@@ -29,6 +29,30 @@ inline Vec3 point_velocity(const Vec3& v, const Vec3& w, const Vec3& lever) {
   return v + w.cross(lever);
 }
 
+// A deformable mesh's velocity at a contact point: its triangle's vertex velocities with the
+// point's barycentric weights (the point lies on the triangle), which go to `weights`.
+inline Vec3 deformable_velocity(const MeshBody& body, const MeshContactPoint& pt, Vec3& weights) {
+  const auto& tri = body.world.triangles[pt.triangle];
+  const auto& x = body.world.vertices;
+  weights = closest_point_on_triangle(pt.point, x[tri[0]], x[tri[1]], x[tri[2]]).barycentric;
+  const auto& u = body.deformation.velocity;
+  return weights[0] * u[tri[0]] + weights[1] * u[tri[1]] + weights[2] * u[tri[2]];
+}
+
+// The one of an element's `slots` old contacts with a mesh whose normal is closest to n (within
+// 60 degrees), or -1: a particle sliding over an edge keeps its spring.
+inline int closest_old_contact(const Vec3* normal, const double* fn, const Vec3* shear, int slots,
+                               const Vec3& n) {
+  int best = -1;
+  double best_dot = 0.5;
+  for (int o = 0; o < slots; ++o) {
+    if (fn[o] <= 0 && shear[o].squaredNorm() == 0) continue;
+    const double dot = normal[o].dot(n);
+    if (dot > best_dot) best_dot = dot, best = o;
+  }
+  return best;
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -184,13 +208,8 @@ void Simulation::mesh_forces(ThreadScratch& s) {
       const int b = p_.body[e];
       for (int a = 0; a < used; ++a) {
         const MeshContactPoint& pt = s.mesh_points[a];
-        int best = -1;
-        double best_dot = 0.5;
-        for (int o = 0; o < S; ++o) {
-          if (h.fn[c * S + o] <= 0 && h.shear[c * S + o].squaredNorm() == 0) continue;
-          const double dot = h.normal[c * S + o].dot(pt.normal);
-          if (dot > best_dot) best_dot = dot, best = o;
-        }
+        const int best =
+            closest_old_contact(&h.normal[c * S], &h.fn[c * S], &h.shear[c * S], S, pt.normal);
         shear[a] = best >= 0 ? h.shear[c * S + best] : Vec3::Zero();
         roll[a] = best >= 0 ? h.roll[c * S + best] : Vec3::Zero();
         normal[a] = pt.normal;
@@ -205,22 +224,11 @@ void Simulation::mesh_forces(ThreadScratch& s) {
         }
         const Vec3 lever = pt.point - p_.x[b];
         const Vec3 wall_lever = pt.point - body.x;
-        // A deformable mesh's velocity at the contact point: its triangle's vertex velocities
-        // with the point's barycentric weights (the point lies on the triangle); no spin.
-        Vec3 weights = Vec3::Zero();
-        if (body.deformable) {
-          const auto& tri = body.world.triangles[pt.triangle];
-          const auto& x = body.world.vertices;
-          weights = closest_point_on_triangle(pt.point, x[tri[0]], x[tri[1]], x[tri[2]]).barycentric;
-          const auto& u = body.deformation.velocity;
-          kin.v_rel = point_velocity(p_.v[b], p_.w[b], lever) -
-                      (weights[0] * u[tri[0]] + weights[1] * u[tri[1]] + weights[2] * u[tri[2]]);
-          kin.w_rel = p_.w[b];
-        } else {
-          kin.v_rel =
-              point_velocity(p_.v[b], p_.w[b], lever) - point_velocity(body.v, body.w, wall_lever);
-          kin.w_rel = p_.w[b] - body.w;
-        }
+        Vec3 weights = Vec3::Zero();  // the point's barycentric weights (deformable meshes)
+        kin.v_rel = point_velocity(p_.v[b], p_.w[b], lever) -
+                    (body.deformable ? deformable_velocity(body, pt, weights)
+                                     : point_velocity(body.v, body.w, wall_lever));
+        kin.w_rel = body.deformable ? p_.w[b] : Vec3(p_.w[b] - body.w);
         kin.m_eff = p_.mass[b];
         kin.r_eff = r;
         const ContactProperties& prop = materials_.pair(body.material, p_.material[e]);

@@ -175,7 +175,8 @@ void Simulation::step() {
   for (MeshBody& m : meshes_)
     if (m.deformable) {
       MeshDeformation& d = m.deformation;
-      for (std::size_t v = 0; v < d.load.size(); ++v) d.impulse[v] += d.load[v] * settings_.time_step;
+      for (std::size_t v = 0; v < d.load.size(); ++v)
+        d.impulse[v] += d.load[v] * settings_.time_step;
       d.impulse_time += settings_.time_step;
     }
   const bool elements_moved = integrate_bodies();

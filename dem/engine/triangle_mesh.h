@@ -68,8 +68,8 @@ struct TriangleMesh {
   static constexpr double kMergeTolerance = 1e-6;
 };
 
-// The InputError of a degenerate triangle, carrying its index so that read_stl (dem/io/stl_file.h) can say on which
-// line of the file the triangle is.
+// The InputError of a degenerate triangle, carrying its index so that read_stl (dem/io/stl_file.h)
+// can say on which line of the file the triangle is.
 class DegenerateTriangleError : public InputError {
  public:
   DegenerateTriangleError(int triangle, const std::string& message)

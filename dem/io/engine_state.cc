@@ -7,9 +7,9 @@
 #include <cstdint>
 #include <sstream>
 
+#include "common/input_error.h"
 #include "dem/engine/contact_history.h"
 #include "dem/io/hdf5_io.h"
-#include "common/input_error.h"
 
 namespace trackbed::dem {
 

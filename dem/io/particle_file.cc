@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "dem/io/csv_table.h"
 #include "common/input_error.h"
+#include "dem/io/csv_table.h"
 
 namespace trackbed::dem {
 

@@ -1,7 +1,7 @@
 #include "dem/io/sample.h"
 
-#include "dem/io/hdf5_io.h"
 #include "common/input_error.h"
+#include "dem/io/hdf5_io.h"
 
 namespace trackbed::dem {
 

@@ -1,7 +1,7 @@
 // A ballast sample: the bodies of a built track bed with their shapes and sizes, the walls and
-// meshes it rests against, and the springs of its contacts. Built once (dem/samples/sample_builder.h),
-// saved as HDF5 and reloaded by any case, so the costly deposition is done once. Format:
-// docs/formats.md, "Sample files".
+// meshes it rests against, and the springs of its contacts. Built once
+// (dem/samples/sample_builder.h), saved as HDF5 and reloaded by any case, so the costly deposition
+// is done once. Format: docs/formats.md, "Sample files".
 #pragma once
 
 #include <string>

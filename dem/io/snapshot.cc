@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <vector>
 
-#include "dem/io/hdf5_io.h"
 #include "common/input_error.h"
 #include "dem/engine/simulation.h"
+#include "dem/io/hdf5_io.h"
 
 namespace trackbed::dem {
 

@@ -3,8 +3,8 @@
 #include <cstring>
 #include <iomanip>
 
-#include "dem/io/atomic_file.h"
 #include "dem/engine/simulation.h"
+#include "dem/io/atomic_file.h"
 
 namespace trackbed::dem {
 

@@ -7,9 +7,9 @@
 #include <sstream>
 #include <vector>
 
+#include "common/input_error.h"
 #include "dem/samples/closed_surface.h"
 #include "dem/samples/convex_hull.h"
-#include "common/input_error.h"
 
 namespace trackbed::dem {
 namespace {

@@ -7,8 +7,8 @@
 #include <sstream>
 #include <unordered_map>
 
-#include "dem/samples/closed_surface.h"
 #include "common/input_error.h"
+#include "dem/samples/closed_surface.h"
 
 namespace trackbed::dem {
 namespace {

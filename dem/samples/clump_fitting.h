@@ -10,8 +10,8 @@
 #include <unordered_map>
 #include <vector>
 
-#include "dem/engine/particles.h"
 #include "common/track_section.h"
+#include "dem/engine/particles.h"
 
 namespace trackbed::dem {
 

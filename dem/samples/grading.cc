@@ -130,8 +130,8 @@ std::vector<GradedStone> sample_grading(const SieveTable& table, double total_vo
                                         const ShapeChooser& choose_shape, std::mt19937_64& rng) {
   validate_sieve_table(table);
   if (!std::isfinite(total_volume) || total_volume <= 0)
-    throw InputError(table.source + ": sample of total solid volume " + number_text(total_volume, 12) +
-                     " m^3; valid: a finite volume > 0");
+    throw InputError(table.source + ": sample of total solid volume " +
+                     number_text(total_volume, 12) + " m^3; valid: a finite volume > 0");
   if (shape_factors.empty()) throw std::invalid_argument("sample_grading: no shape factors given");
   for (double f : shape_factors)
     if (!std::isfinite(f) || f <= 0)

@@ -40,9 +40,11 @@ void check_parameters(double sleeper_displacement, double threshold, double dila
     throw InputError("sleeper displacement " + exact_number_text(sleeper_displacement) +
                      " m; valid: a finite distance > 0 (m)");
   if (!(threshold >= 0) || !std::isfinite(threshold))
-    throw InputError("threshold " + exact_number_text(threshold) + " m; valid: a finite distance >= 0 (m)");
+    throw InputError("threshold " + exact_number_text(threshold) +
+                     " m; valid: a finite distance >= 0 (m)");
   if (!(dilation >= 0) || !std::isfinite(dilation))
-    throw InputError("dilation " + exact_number_text(dilation) + " m; valid: a finite distance >= 0 (m)");
+    throw InputError("dilation " + exact_number_text(dilation) +
+                     " m; valid: a finite distance >= 0 (m)");
 }
 
 // The reference snapshot's index of every body id.
@@ -119,9 +121,10 @@ std::pair<SphereUnion, PilotSummary> select_moved_bodies(const std::vector<std::
     summary.total_bodies = static_cast<int>(now.id.size());
     return {SphereUnion(std::move(spheres)), summary};
   }
-  throw InputError("the sleeper (first mesh body) moved at most " + exact_number_text(farthest) + " m (in " +
-                   farthest_file + ") over the " + std::to_string(files.size()) +
-                   " snapshots; valid: a sleeper displacement up to " + exact_number_text(farthest) +
+  throw InputError("the sleeper (first mesh body) moved at most " + exact_number_text(farthest) +
+                   " m (in " + farthest_file + ") over the " + std::to_string(files.size()) +
+                   " snapshots; valid: a sleeper displacement up to " +
+                   exact_number_text(farthest) +
                    " m, or a pilot run that pushes the sleeper further");
 }
 
@@ -234,8 +237,8 @@ PilotZone::PilotZone(const std::string& path, double sleeper_displacement, doubl
       summary_(std::move(selection.second)) {}
 
 void PilotZone::print(std::string& out) const {
-  out += "pilot(\"" + path_ + "\", " + exact_number_text(sleeper_displacement_) + ", " + exact_number_text(threshold_) +
-         ", " + exact_number_text(dilation_) + ")";
+  out += "pilot(\"" + path_ + "\", " + exact_number_text(sleeper_displacement_) + ", " +
+         exact_number_text(threshold_) + ", " + exact_number_text(dilation_) + ")";
 }
 
 }  // namespace trackbed::dem

@@ -29,9 +29,9 @@
 #include <vector>
 
 #include "dem/io/engine_state.h"
+#include "dem/io/sample.h"
 #include "dem/samples/grading.h"
 #include "dem/samples/porosity_calibration.h"
-#include "dem/io/sample.h"
 #include "dem/samples/section_model.h"
 #include "dem/samples/settling.h"
 

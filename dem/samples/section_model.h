@@ -9,12 +9,12 @@
 #include <string>
 #include <vector>
 
-#include "dem/samples/grading.h"
-#include "dem/engine/material.h"
-#include "dem/io/sample.h"
-#include "dem/samples/settling.h"
-#include "dem/engine/simulation.h"
 #include "common/track_section.h"
+#include "dem/engine/material.h"
+#include "dem/engine/simulation.h"
+#include "dem/io/sample.h"
+#include "dem/samples/grading.h"
+#include "dem/samples/settling.h"
 
 namespace trackbed::dem {
 

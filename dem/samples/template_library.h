@@ -7,10 +7,10 @@
 #include <string>
 #include <vector>
 
-#include "dem/samples/ballast_stone.h"
-#include "dem/samples/bubble_pack.h"
 #include "dem/engine/clump_template.h"
 #include "dem/engine/triangle_mesh.h"
+#include "dem/samples/ballast_stone.h"
+#include "dem/samples/bubble_pack.h"
 
 namespace trackbed::dem {
 

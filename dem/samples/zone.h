@@ -73,5 +73,4 @@ ZonePtr union_zone(ZonePtr a, ZonePtr b);
 ZonePtr intersection_zone(ZonePtr a, ZonePtr b);
 ZonePtr difference_zone(ZonePtr a, ZonePtr b);  // in a and not in b
 
-
 }  // namespace trackbed::dem

@@ -8,8 +8,8 @@
 #include <sstream>
 
 #include "cli_fixture.h"
-#include "dem/io/csv_table.h"
 #include "dem/engine/mass_properties.h"
+#include "dem/io/csv_table.h"
 #include "dem/io/sample.h"
 #include "dem/samples/section_model.h"
 #include "dem/samples/zone.h"

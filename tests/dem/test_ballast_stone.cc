@@ -7,8 +7,8 @@
 #include <cmath>
 #include <string>
 
-#include "dem/samples/closed_surface.h"
 #include "common/input_error.h"
+#include "dem/samples/closed_surface.h"
 #include "icosphere.h"
 
 namespace trackbed::dem {

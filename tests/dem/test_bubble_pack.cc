@@ -1,5 +1,5 @@
-// Bubble packing (dem/samples/bubble_pack.h): a sphere gives one pebble, boxes respond to Distance and
-// Ratio as documented, pebbles stay inside, mass properties come from the chosen source.
+// Bubble packing (dem/samples/bubble_pack.h): a sphere gives one pebble, boxes respond to Distance
+// and Ratio as documented, pebbles stay inside, mass properties come from the chosen source.
 #include "common/input_error.h"
 #include "dem/engine/mesh_contact.h"
 #include "dem/samples/ballast_stone.h"

@@ -64,8 +64,8 @@ std::unique_ptr<Simulation> ball_on_plate(bool deformable, const Vec3& plate_vel
 TEST(DeformableMesh, UniformlyMovingVerticesActAsTheRigidPlate) {
   // The same motion given two ways; only rounding separates them (a vertex moved by v dt each
   // step against the body's reference point moved by v dt plus its offset; barycentric weights
-  // that sum to 1 within 1e-16). Over 5,000 steps (a landing, then a ride with sliding) the ball's path agrees
-  // to 1e-12 m and the plate's load to 1e-9 of the weight-scale force k r.
+  // that sum to 1 within 1e-16). Over 5,000 steps (a landing, then a ride with sliding) the ball's
+  // path agrees to 1e-12 m and the plate's load to 1e-9 of the weight-scale force k r.
   const Vec3 up(0.01, 0, 0.05);
   auto rigid = ball_on_plate(false, up, 0.9), soft = ball_on_plate(true, up, 0.9);
   int touching = 0;
@@ -96,8 +96,7 @@ TEST(DeformableMesh, VertexLoadsKeepTheForceAndItsMoment) {
     }
     const double scale = 1e-12 * (b.contact_force.norm() + 1e-30);
     EXPECT_NEAR((sum - b.contact_force).norm(), 0, scale) << i;
-    EXPECT_NEAR((moment - (b.contact_moment + b.x.cross(b.contact_force))).norm(), 0,
-                0.4 * scale)
+    EXPECT_NEAR((moment - (b.contact_moment + b.x.cross(b.contact_force))).norm(), 0, 0.4 * scale)
         << i;
   }
 }
@@ -187,7 +186,8 @@ TEST(DeformableMesh, CheckpointCarriesTheVertexState) {
   drive(*b, 2000);
   EXPECT_EQ(a->particles().x[0], b->particles().x[0]);
   EXPECT_EQ(a->meshes()[0].world.vertices, b->meshes()[0].world.vertices);
-  EXPECT_EQ(a->meshes()[0].deformation.take_mean_load(), b->meshes()[0].deformation.take_mean_load());
+  EXPECT_EQ(a->meshes()[0].deformation.take_mean_load(),
+            b->meshes()[0].deformation.take_mean_load());
   EXPECT_EQ(a->energy().wall_work, b->energy().wall_work);
 }
 

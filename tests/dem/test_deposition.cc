@@ -36,8 +36,7 @@ DepositedBed deposit_bed(std::uint64_t seed) {
   stages.fall.add(fall);
   stages.settle.add(settle);
   stages.ratio = 1e-3;
-  Particles cloud =
-      ball_cloud(sizes, Vec3(0, 0, 0.01), Vec3(kBox, kBox, 0), 0.2, 0, density, seed);
+  Particles cloud = ball_cloud(sizes, Vec3(0, 0, 0.01), Vec3(kBox, kBox, 0), 0.2, 0, density, seed);
   SimulationSettings settings;
   settings.time_step = 2e-5;  // 0.14 of sqrt(m / k) of the smallest ball
   DepositedBed bed{Simulation(stages.fall, std::move(cloud), settings), {}};

@@ -7,8 +7,8 @@
 
 #include "dem/engine/clump_template.h"
 #include "dem/engine/mesh_body.h"
-#include "dem/samples/random_packing.h"
 #include "dem/engine/triangle_mesh.h"
+#include "dem/samples/random_packing.h"
 #include "sim_builder.h"
 
 namespace trackbed::dem {

@@ -6,12 +6,12 @@
 
 #include <filesystem>
 
+#include "common/input_error.h"
 #include "dem/engine/clump_template.h"
+#include "dem/engine/triangle_mesh.h"
 #include "dem/io/engine_state.h"
 #include "dem/io/hdf5_io.h"
-#include "common/input_error.h"
 #include "dem/samples/random_packing.h"
-#include "dem/engine/triangle_mesh.h"
 #include "sim_builder.h"
 
 namespace trackbed::dem {

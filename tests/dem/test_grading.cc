@@ -8,8 +8,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "dem/samples/grading.h"
 #include "common/input_error.h"
+#include "dem/samples/grading.h"
 
 namespace trackbed::dem {
 namespace {

@@ -1,5 +1,5 @@
-// The Verlet neighbour list (dem/engine/neighbor_list.h): the pairs it holds, and the split of its rows
-// among threads by work (NeighborList::balanced_ranges).
+// The Verlet neighbour list (dem/engine/neighbor_list.h): the pairs it holds, and the split of its
+// rows among threads by work (NeighborList::balanced_ranges).
 #include <gtest/gtest.h>
 
 #include <vector>

@@ -5,8 +5,8 @@
 #include <gtest/gtest.h>
 
 #include "dem/engine/mesh_body.h"
-#include "dem/samples/section_model.h"
 #include "dem/engine/sleeper_support.h"
+#include "dem/samples/section_model.h"
 #include "sim_builder.h"
 
 namespace trackbed::dem {

@@ -1,5 +1,5 @@
-// The shipped template library (dem/samples/template_library.h, cases/templates/ballast/): it loads with
-// both mass sources, its manifest matches a fresh computation, and bad manifests are refused.
+// The shipped template library (dem/samples/template_library.h, cases/templates/ballast/): it loads
+// with both mass sources, its manifest matches a fresh computation, and bad manifests are refused.
 #include "dem/samples/template_library.h"
 
 #include <gtest/gtest.h>
@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "dem/samples/closed_surface.h"
-#include "dem/io/csv_table.h"
 #include "common/input_error.h"
+#include "dem/io/csv_table.h"
+#include "dem/samples/closed_surface.h"
 #include "input_error_message.h"
 
 namespace trackbed::dem {

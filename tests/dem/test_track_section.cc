@@ -6,9 +6,9 @@
 #include <random>
 
 #include "common/input_error.h"
-#include "dem/samples/section_model.h"
 #include "common/track_section.h"
 #include "dem/engine/triangle_mesh.h"
+#include "dem/samples/section_model.h"
 
 namespace trackbed::dem {
 namespace {

@@ -1,5 +1,5 @@
-// Shares of a loop by work (dem/engine/work_split.h), the split of the pair loop and of the body update
-// among threads.
+// Shares of a loop by work (dem/engine/work_split.h), the split of the pair loop and of the body
+// update among threads.
 #include <gtest/gtest.h>
 
 #include <vector>

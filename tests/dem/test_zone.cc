@@ -10,9 +10,9 @@
 #include <random>
 
 #include "common/input_error.h"
-#include "dem/samples/pilot_zone.h"
-#include "dem/io/snapshot.h"
 #include "dem/engine/triangle_mesh.h"
+#include "dem/io/snapshot.h"
+#include "dem/samples/pilot_zone.h"
 #include "dem/samples/zone.h"
 #include "sim_builder.h"
 
