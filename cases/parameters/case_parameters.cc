@@ -79,13 +79,6 @@ dem::DofControl parse_dof(const std::string& text, const std::string& where) {
   return c;
 }
 
-// Where the values being parsed come from: the case file (for messages) and the folder of the
-// file that set each value (relative file names resolve against it).
-struct Source {
-  const std::string& path;
-  const ValueFolders& folders;
-};
-
 // simulation: the run's clock, threads, neighbour list and seed (and the top-level mode).
 void declare_simulation(ParameterHandler& prm) {
   prm.declare_entry("mode", "dem", Selection("dem|coupled"),
@@ -109,7 +102,7 @@ void declare_simulation(ParameterHandler& prm) {
   prm.leave_subsection();
 }
 
-void parse_simulation(ParameterHandler& prm, const Source&, CaseParameters& c) {
+void parse_simulation(ParameterHandler& prm, const ParameterSource&, CaseParameters& c) {
   c.mode = prm.get("mode");
   prm.enter_subsection("simulation");
   c.time_step = prm.get_double("time step");
@@ -132,7 +125,7 @@ void declare_physics(ParameterHandler& prm) {
   prm.leave_subsection();
 }
 
-void parse_physics(ParameterHandler& prm, const Source&, CaseParameters& c) {
+void parse_physics(ParameterHandler& prm, const ParameterSource&, CaseParameters& c) {
   prm.enter_subsection("physics");
   c.gravity = vector_of(prm, "gravity");
   prm.leave_subsection();
@@ -152,7 +145,7 @@ void declare_materials(ParameterHandler& prm) {
   prm.leave_subsection();
 }
 
-void parse_materials(ParameterHandler& prm, const Source&, CaseParameters& c) {
+void parse_materials(ParameterHandler& prm, const ParameterSource&, CaseParameters& c) {
   prm.enter_subsection("materials");
   const int nmat = prm.get_integer("number of materials");
   for (int i = 0; i < nmat; ++i) {
@@ -186,7 +179,7 @@ void declare_contact_pairs(ParameterHandler& prm) {
   prm.leave_subsection();
 }
 
-void parse_contact_pairs(ParameterHandler& prm, const Source& in, CaseParameters& c) {
+void parse_contact_pairs(ParameterHandler& prm, const ParameterSource& in, CaseParameters& c) {
   const std::string& path = in.path;
   prm.enter_subsection("contact pairs");
   const int npairs = prm.get_integer("number of pairs");
@@ -229,7 +222,7 @@ void declare_plane_walls(ParameterHandler& prm) {
   prm.leave_subsection();
 }
 
-void parse_plane_walls(ParameterHandler& prm, const Source&, CaseParameters& c) {
+void parse_plane_walls(ParameterHandler& prm, const ParameterSource&, CaseParameters& c) {
   prm.enter_subsection("plane walls");
   const int nplanes = prm.get_integer("number of walls");
   for (int i = 0; i < nplanes; ++i) {
@@ -271,7 +264,7 @@ void declare_meshes(ParameterHandler& prm) {
   prm.leave_subsection();
 }
 
-void parse_meshes(ParameterHandler& prm, const Source& in, CaseParameters& c) {
+void parse_meshes(ParameterHandler& prm, const ParameterSource& in, CaseParameters& c) {
   const std::string& path = in.path;
   const ValueFolders& folders = in.folders;
   prm.enter_subsection("meshes");
@@ -326,7 +319,7 @@ void declare_particles(ParameterHandler& prm) {
   prm.leave_subsection();
 }
 
-void parse_particles(ParameterHandler& prm, const Source& in, CaseParameters& c) {
+void parse_particles(ParameterHandler& prm, const ParameterSource& in, CaseParameters& c) {
   const std::string& path = in.path;
   const ValueFolders& folders = in.folders;
   prm.enter_subsection("particles");
@@ -384,7 +377,7 @@ void declare_push_test(ParameterHandler& prm) {
   prm.leave_subsection();
 }
 
-void parse_push_test(ParameterHandler& prm, const Source& in, CaseParameters& c) {
+void parse_push_test(ParameterHandler& prm, const ParameterSource& in, CaseParameters& c) {
   const std::string& path = in.path;
   prm.enter_subsection("push test");
   c.push.mesh = prm.get("mesh");
@@ -431,7 +424,7 @@ void declare_output(ParameterHandler& prm) {
   prm.leave_subsection();
 }
 
-void parse_output(ParameterHandler& prm, const Source&, CaseParameters& c) {
+void parse_output(ParameterHandler& prm, const ParameterSource&, CaseParameters& c) {
   prm.enter_subsection("output");
   c.output_folder = prm.get("folder");
   c.history_interval = prm.get_double("history interval");
@@ -484,7 +477,7 @@ CaseParameters read_case_file(const std::string& path) {
   // A relative file name resolves against the folder of the file that set it (an included file's
   // names stay its own).
   const ValueFolders folders = parse_parameter_file(prm, path, "trackbed --print-parameters");
-  const Source in{path, folders};
+  const ParameterSource in{path, folders};
   CaseParameters c;
   c.file = path;
   parse_simulation(prm, in, c);

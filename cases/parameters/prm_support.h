@@ -56,4 +56,12 @@ class ValueFolders {
 ValueFolders parse_parameter_file(dealii::ParameterHandler& prm, const std::string& path,
                                   const std::string& print_command);
 
+// Where the values being read come from, for the parse_ function of each subsection: the
+// parameter file (for messages) and the folder of the file that set each value (relative file
+// names resolve against it).
+struct ParameterSource {
+  const std::string& path;
+  const ValueFolders& folders;
+};
+
 }  // namespace trackbed::cases

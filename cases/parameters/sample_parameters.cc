@@ -24,8 +24,8 @@ namespace {
 
 const char* const kPresets = "all-ball|all-clump|half-by-height|optimised|custom";
 
-void declare(ParameterHandler& prm) {
-  const dem::SampleBuildSettings b;
+// section: the single-sleeper section (the one TrackSection).
+void declare_section(ParameterHandler& prm, const dem::SampleBuildSettings& b) {
   const TrackSection& s = b.section;
   prm.enter_subsection("section");
   prm.declare_entry("sleeper length", number_text(s.sleeper_length), Double(1e-3, 100),
@@ -51,12 +51,47 @@ void declare(ParameterHandler& prm) {
                     "Across the track: shoulder slopes, or the side walls of a box at "
                     "+-(sleeper length / 2 + shoulder width) (needs slope 0)");
   prm.leave_subsection();
+}
 
+void parse_section(ParameterHandler& prm, const ParameterSource& in, SampleParameters& p) {
+  const std::string& path = in.path;
+  dem::SampleBuildSettings& b = p.build;
+  TrackSection& s = b.section;
+  prm.enter_subsection("section");
+  s.sleeper_length = prm.get_double("sleeper length");
+  s.sleeper_width = prm.get_double("sleeper width");
+  s.sleeper_height = prm.get_double("sleeper height");
+  s.sleeper_mass = prm.get_double("sleeper mass");
+  s.depth_under_sleeper = prm.get_double("depth under sleeper");
+  s.shoulder_width = prm.get_double("shoulder width");
+  s.slope = prm.get_double("slope");
+  s.length = prm.get_double("length");
+  s.periodic = prm.get("boundary") == "periodic";
+  s.side_walls = prm.get("sides") == "walls";
+  s.sleeper_bottom_width = prm.get_double("sleeper bottom width");
+  prm.leave_subsection();
+  s.validate(path);
+}
+
+// grading: the stones' size distribution.
+void declare_grading(ParameterHandler& prm, const dem::SampleBuildSettings&) {
   prm.enter_subsection("grading");
   prm.declare_entry("file", "", Anything(),
                     "Sieve table CSV (columns size in m, passing in %); empty: EN 13450 31.5/63");
   prm.leave_subsection();
+}
 
+void parse_grading(ParameterHandler& prm, const ParameterSource& in, SampleParameters& p) {
+  const ValueFolders& folders = in.folders;
+  dem::SampleBuildSettings& b = p.build;
+  prm.enter_subsection("grading");
+  const std::string grading = folders.resolve("grading/file", prm.get("file"));
+  if (!grading.empty()) b.grading = dem::read_sieve_table_csv(grading);
+  prm.leave_subsection();
+}
+
+// materials: the ballast and sleeper materials of the build.
+void declare_materials(ParameterHandler& prm, const dem::SampleBuildSettings& b) {
   prm.enter_subsection("materials");
   for (const auto& [m, role] : {std::pair{&b.materials.ballast, "stones and the base"},
                                 {&b.materials.sleeper, "the sleeper"},
@@ -66,7 +101,21 @@ void declare(ParameterHandler& prm) {
     prm.leave_subsection();
   }
   prm.leave_subsection();
+}
 
+void parse_materials(ParameterHandler& prm, const ParameterSource&, SampleParameters& p) {
+  dem::SampleBuildSettings& b = p.build;
+  prm.enter_subsection("materials");
+  for (dem::Material* m : {&b.materials.ballast, &b.materials.sleeper, &b.materials.wall}) {
+    prm.enter_subsection(m->name);
+    read_material_values(prm, *m);
+    prm.leave_subsection();
+  }
+  prm.leave_subsection();
+}
+
+// build: deposition, compaction and the seated sleeper.
+void declare_build(ParameterHandler& prm, const dem::SampleBuildSettings& b) {
   prm.enter_subsection("build");
   prm.declare_entry("target porosity", number_text(b.target_porosity), Double(0.2, 0.7),
                     "Porosity under the sleeper that compaction aims at (reached from above)");
@@ -116,7 +165,48 @@ void declare(ParameterHandler& prm) {
   prm.declare_entry("seed", "1", Integer(0), "Seed of the grading draw and the cloud");
   prm.declare_entry("threads", "0", Integer(0, 1024), "OpenMP threads; 0 = OMP_NUM_THREADS");
   prm.leave_subsection();
+}
 
+void parse_build(ParameterHandler& prm, const ParameterSource& in, SampleParameters& p) {
+  const std::string& path = in.path;
+  dem::SampleBuildSettings& b = p.build;
+  prm.enter_subsection("build");
+  b.target_porosity = prm.get_double("target porosity");
+  b.overfill = prm.get_double("overfill");
+  b.cloud_solid_fraction = prm.get_double("cloud solid fraction");
+  b.deposition_damping = prm.get_double("deposition damping");
+  b.preparation_damping = prm.get_double("preparation damping ratio");
+  p.conversion.preparation_damping = b.preparation_damping;
+  const std::string friction = prm.get("deposition friction factor");
+  if (friction == "auto") {
+    b.deposition_friction = -1;
+  } else {
+    char* end = nullptr;
+    b.deposition_friction = std::strtod(friction.c_str(), &end);
+    if (end == friction.c_str() || *end != '\0' || !(b.deposition_friction >= 0) ||
+        b.deposition_friction > 1)
+      throw InputError(path + ": build/deposition friction factor = '" + friction +
+                       "'; valid: auto or a number in [0, 1]");
+  }
+  b.calibration.factors = dealii::Utilities::string_to_double(
+      dealii::Utilities::split_string_list(prm.get("calibration friction factors")));
+  b.tamping_load_factor = prm.get_double("tamping load factor");
+  b.mould_seating_friction = prm.get_double("mould seating friction factor");
+  b.mould_seating_time = prm.get_double("mould seating time");
+  b.mould_sleeper_free = prm.get("mould seating sleeper") == "free";
+  b.stage_ratio = prm.get_double("stage ratio");
+  b.equilibrium_ratio = prm.get_double("equilibrium ratio");
+  b.max_stage_time = prm.get_double("maximum stage time");
+  b.time_step = prm.get_double("time step");
+  b.critical_fraction = prm.get_double("critical timestep fraction");
+  b.skin = prm.get_double("verlet skin");
+  b.seed = prm.get_integer("seed");
+  p.threads = prm.get_integer("threads");
+  prm.leave_subsection();
+}
+
+// zone: which balls become clumps, and how the conversion grows and settles them.
+void declare_zone(ParameterHandler& prm, const dem::SampleBuildSettings&) {
   const dem::ConversionSettings c;
   prm.enter_subsection("zone");
   prm.declare_entry(
@@ -161,123 +251,12 @@ void declare(ParameterHandler& prm) {
                     "without");
   prm.declare_entry("seed", "1", Integer(0), "Seed of the template choice and orientations");
   prm.leave_subsection();
-
-  prm.enter_subsection("output");
-  prm.declare_entry("folder", "results/samples/section", Anything(),
-                    "Results folder (relative to the working directory)");
-  prm.declare_entry("progress interval", "5", Double(0), "Wall seconds between progress lines");
-  prm.declare_entry("checkpoint interval", "600", Double(0),
-                    "Wall seconds between checkpoints of a conversion to clumps (checkpoint.h5, "
-                    "for 'trackbed resume'); one is also written when the build is interrupted; "
-                    "0 = none");
-  prm.declare_entry("vtu", "true", Bool(), "Write ParaView files of the finished sample");
-  prm.declare_entry("plot", "true", Bool(), "Write grading.png and sample.png (matplotlib)");
-  prm.leave_subsection();
 }
 
-}  // namespace
-
-std::string preset_zone(const std::string& preset, const TrackSection& s) {
-  if (preset == "all-ball") return "none";
-  if (preset == "all-clump") return "all";
-  // The paper's half-by-height model: balls in the bottom 265 mm, clumps in the 80 mm under the
-  // sleeper (depth 350 mm) and in the crib; kept in proportion for other depths.
-  const double split = s.depth_under_sleeper * 265.0 / 350.0;
-  if (preset == "half-by-height")
-    return "halfspace(0, 0, " + exact_number_text(split) + ", 0, 0, -1)";
-  if (preset == "optimised") {
-    // Under and beside the sleeper down to 50 mm (at depth 350 mm) below it, and the shoulder
-    // wedge in front of the pushed (+x) end, from that level at the sleeper end up to the crest
-    // edge: 20 % of the ballast volume of the paper's section, as its 5,036 of 24,394 stones.
-    const double bottom = s.depth_under_sleeper * (1 - 50.0 / 350.0);
-    const double top = s.crest_z() + s.sleeper_height;  // above every stone centre
-    const double half = 0.5 * s.sleeper_length, y = s.length;
-    return "box(" + exact_number_text(-half) + ", " + exact_number_text(-y) + ", " +
-           exact_number_text(bottom) + ", " + exact_number_text(half) + ", " +
-           exact_number_text(y) + ", " + exact_number_text(top) + ") | prism(y, " +
-           exact_number_text(-y) + ", " + exact_number_text(y) + ", " + exact_number_text(half) +
-           ", " + exact_number_text(bottom) + ", " + exact_number_text(s.half_crest_width()) +
-           ", " + exact_number_text(s.crest_z()) + ", " + exact_number_text(s.half_crest_width()) +
-           ", " + exact_number_text(top) + ", " + exact_number_text(half) + ", " +
-           exact_number_text(top) + ")";
-  }
-  throw InputError("zone preset '" + preset + "' is unknown; valid: " + kPresets);
-}
-
-SampleParameters read_sample_file(const std::string& path) {
-  ParameterHandler prm;
-  declare(prm);
-  // A relative file name resolves against the folder of the file that set it (an included file's
-  // names stay its own).
-  const ValueFolders folders =
-      parse_parameter_file(prm, path, "trackbed build-sample --print-parameters");
-
-  SampleParameters p;
-  p.file = path;
+void parse_zone(ParameterHandler& prm, const ParameterSource& in, SampleParameters& p) {
+  const std::string& path = in.path;
+  const ValueFolders& folders = in.folders;
   dem::SampleBuildSettings& b = p.build;
-  TrackSection& s = b.section;
-  prm.enter_subsection("section");
-  s.sleeper_length = prm.get_double("sleeper length");
-  s.sleeper_width = prm.get_double("sleeper width");
-  s.sleeper_height = prm.get_double("sleeper height");
-  s.sleeper_mass = prm.get_double("sleeper mass");
-  s.depth_under_sleeper = prm.get_double("depth under sleeper");
-  s.shoulder_width = prm.get_double("shoulder width");
-  s.slope = prm.get_double("slope");
-  s.length = prm.get_double("length");
-  s.periodic = prm.get("boundary") == "periodic";
-  s.side_walls = prm.get("sides") == "walls";
-  s.sleeper_bottom_width = prm.get_double("sleeper bottom width");
-  prm.leave_subsection();
-  s.validate(path);
-
-  prm.enter_subsection("grading");
-  const std::string grading = folders.resolve("grading/file", prm.get("file"));
-  if (!grading.empty()) b.grading = dem::read_sieve_table_csv(grading);
-  prm.leave_subsection();
-
-  prm.enter_subsection("materials");
-  for (dem::Material* m : {&b.materials.ballast, &b.materials.sleeper, &b.materials.wall}) {
-    prm.enter_subsection(m->name);
-    read_material_values(prm, *m);
-    prm.leave_subsection();
-  }
-  prm.leave_subsection();
-
-  prm.enter_subsection("build");
-  b.target_porosity = prm.get_double("target porosity");
-  b.overfill = prm.get_double("overfill");
-  b.cloud_solid_fraction = prm.get_double("cloud solid fraction");
-  b.deposition_damping = prm.get_double("deposition damping");
-  b.preparation_damping = prm.get_double("preparation damping ratio");
-  p.conversion.preparation_damping = b.preparation_damping;
-  const std::string friction = prm.get("deposition friction factor");
-  if (friction == "auto") {
-    b.deposition_friction = -1;
-  } else {
-    char* end = nullptr;
-    b.deposition_friction = std::strtod(friction.c_str(), &end);
-    if (end == friction.c_str() || *end != '\0' || !(b.deposition_friction >= 0) ||
-        b.deposition_friction > 1)
-      throw InputError(path + ": build/deposition friction factor = '" + friction +
-                       "'; valid: auto or a number in [0, 1]");
-  }
-  b.calibration.factors = dealii::Utilities::string_to_double(
-      dealii::Utilities::split_string_list(prm.get("calibration friction factors")));
-  b.tamping_load_factor = prm.get_double("tamping load factor");
-  b.mould_seating_friction = prm.get_double("mould seating friction factor");
-  b.mould_seating_time = prm.get_double("mould seating time");
-  b.mould_sleeper_free = prm.get("mould seating sleeper") == "free";
-  b.stage_ratio = prm.get_double("stage ratio");
-  b.equilibrium_ratio = prm.get_double("equilibrium ratio");
-  b.max_stage_time = prm.get_double("maximum stage time");
-  b.time_step = prm.get_double("time step");
-  b.critical_fraction = prm.get_double("critical timestep fraction");
-  b.skin = prm.get_double("verlet skin");
-  b.seed = prm.get_integer("seed");
-  p.threads = prm.get_integer("threads");
-  prm.leave_subsection();
-
   prm.enter_subsection("zone");
   p.preset = prm.get("preset");
   const std::string custom = prm.get("clump zone");
@@ -319,7 +298,24 @@ SampleParameters read_sample_file(const std::string& path) {
   p.conversion.seed = prm.get_integer("seed");
   p.conversion.skin = b.skin;
   prm.leave_subsection();
+}
 
+// output: the sample folder and what is written.
+void declare_output(ParameterHandler& prm, const dem::SampleBuildSettings&) {
+  prm.enter_subsection("output");
+  prm.declare_entry("folder", "results/samples/section", Anything(),
+                    "Results folder (relative to the working directory)");
+  prm.declare_entry("progress interval", "5", Double(0), "Wall seconds between progress lines");
+  prm.declare_entry("checkpoint interval", "600", Double(0),
+                    "Wall seconds between checkpoints of a conversion to clumps (checkpoint.h5, "
+                    "for 'trackbed resume'); one is also written when the build is interrupted; "
+                    "0 = none");
+  prm.declare_entry("vtu", "true", Bool(), "Write ParaView files of the finished sample");
+  prm.declare_entry("plot", "true", Bool(), "Write grading.png and sample.png (matplotlib)");
+  prm.leave_subsection();
+}
+
+void parse_output(ParameterHandler& prm, const ParameterSource&, SampleParameters& p) {
   prm.enter_subsection("output");
   p.output_folder = prm.get("folder");
   p.progress_interval = prm.get_double("progress interval");
@@ -327,6 +323,64 @@ SampleParameters read_sample_file(const std::string& path) {
   p.vtu = prm.get_bool("vtu");
   p.plot = prm.get_bool("plot");
   prm.leave_subsection();
+}
+
+void declare(ParameterHandler& prm) {
+  const dem::SampleBuildSettings defaults;
+  declare_section(prm, defaults);
+  declare_grading(prm, defaults);
+  declare_materials(prm, defaults);
+  declare_build(prm, defaults);
+  declare_zone(prm, defaults);
+  declare_output(prm, defaults);
+}
+
+}  // namespace
+
+std::string preset_zone(const std::string& preset, const TrackSection& s) {
+  if (preset == "all-ball") return "none";
+  if (preset == "all-clump") return "all";
+  // The paper's half-by-height model: balls in the bottom 265 mm, clumps in the 80 mm under the
+  // sleeper (depth 350 mm) and in the crib; kept in proportion for other depths.
+  const double split = s.depth_under_sleeper * 265.0 / 350.0;
+  if (preset == "half-by-height")
+    return "halfspace(0, 0, " + exact_number_text(split) + ", 0, 0, -1)";
+  if (preset == "optimised") {
+    // Under and beside the sleeper down to 50 mm (at depth 350 mm) below it, and the shoulder
+    // wedge in front of the pushed (+x) end, from that level at the sleeper end up to the crest
+    // edge: 20 % of the ballast volume of the paper's section, as its 5,036 of 24,394 stones.
+    const double bottom = s.depth_under_sleeper * (1 - 50.0 / 350.0);
+    const double top = s.crest_z() + s.sleeper_height;  // above every stone centre
+    const double half = 0.5 * s.sleeper_length, y = s.length;
+    return "box(" + exact_number_text(-half) + ", " + exact_number_text(-y) + ", " +
+           exact_number_text(bottom) + ", " + exact_number_text(half) + ", " +
+           exact_number_text(y) + ", " + exact_number_text(top) + ") | prism(y, " +
+           exact_number_text(-y) + ", " + exact_number_text(y) + ", " + exact_number_text(half) +
+           ", " + exact_number_text(bottom) + ", " + exact_number_text(s.half_crest_width()) +
+           ", " + exact_number_text(s.crest_z()) + ", " + exact_number_text(s.half_crest_width()) +
+           ", " + exact_number_text(top) + ", " + exact_number_text(half) + ", " +
+           exact_number_text(top) + ")";
+  }
+  throw InputError("zone preset '" + preset + "' is unknown; valid: " + kPresets);
+}
+
+SampleParameters read_sample_file(const std::string& path) {
+  ParameterHandler prm;
+  declare(prm);
+  // A relative file name resolves against the folder of the file that set it (an included file's
+  // names stay its own).
+  const ValueFolders folders =
+      parse_parameter_file(prm, path, "trackbed build-sample --print-parameters");
+
+  const ParameterSource in{path, folders};
+  SampleParameters p;
+  p.file = path;
+  parse_section(prm, in, p);
+  parse_grading(prm, in, p);
+  parse_materials(prm, in, p);
+  parse_build(prm, in, p);
+  parse_zone(prm, in, p);
+  parse_output(prm, in, p);
   p.fingerprint = fingerprint(prm);
   return p;
 }
