@@ -19,6 +19,7 @@
 #include "coupling/quasi_static_scheme.h"
 #include "dem/engine/mesh_body.h"
 #include "dem/engine/simulation.h"
+#include "elastic_box.h"
 #include "fem/boundary_interface.h"
 #include "fem/elastic_body.h"
 #include "fem/material.h"
@@ -28,27 +29,15 @@ namespace {
 
 using dem::Vec3;
 
-constexpr double kSide = 0.2, kHeight = 0.2;  // m
-const fem::Material kSoil{"soil", 1e8, 0.3, 1900};
+using testing::kHeight;
+using testing::kSide;
+using testing::kSoil;
 
-// The box [0, a]^2 x [-H, 0] of 4 x 4 x 4 trilinear cells, rollers on its sides, fixed at its
-// base, no gravity: its displacements are those the interface loads cause (the geostatic
-// state, measured from, is the origin of the coupling's displacements).
+// The 4 x 4 x 4 box, solved directly.
 std::unique_ptr<fem::ElasticBody> box() {
-  auto body = std::make_unique<fem::ElasticBody>(1, MPI_COMM_WORLD);
-  body->make_box({{{0, 0, -kHeight}}, {{kSide, kSide, 0}}, {{4, 4, 4}}, {}});
-  body->set_material(0, kSoil);
-  body->set_gravity({{0, 0, 0}});
-  body->fix(body->boundary_id("zmin"));
-  body->fix(body->boundary_id("xmin"), {{true, false, false}});
-  body->fix(body->boundary_id("xmax"), {{true, false, false}});
-  body->fix(body->boundary_id("ymin"), {{false, true, false}});
-  body->fix(body->boundary_id("ymax"), {{false, true, false}});
   fem::SolverParameters solver;
   solver.method = fem::SolverParameters::Method::direct;
-  body->set_solver(solver);
-  body->setup();
-  return body;
+  return testing::elastic_box(MPI_COMM_WORLD, {{4, 4, 4}}, 0, solver);
 }
 
 // The area mean of u_z over the top: the three edge-midpoint rule on each interface triangle,

@@ -11,31 +11,21 @@
 #include <vector>
 
 #include "coupling/interface_wall.h"
+#include "elastic_box.h"
 #include "fem/boundary_interface.h"
 #include "fem/elastic_body.h"
-#include "fem/material.h"
 
 namespace trackbed::coupling {
 namespace {
 
 using dem::Vec3;
 
+// One layer of 4 x 4 coarse cells refined twice: p4est hands each process whole coarse cells in
+// order, so the top, the wall, is split between the two processes. CG to 1e-12.
 std::unique_ptr<fem::ElasticBody> box(MPI_Comm communicator) {
-  auto body = std::make_unique<fem::ElasticBody>(1, communicator);
-  // One layer of 4 x 4 coarse cells refined twice: p4est hands each process whole coarse cells
-  // in order, so the top, the wall, is split between the two processes.
-  body->make_box({{{0, 0, -0.2}}, {{0.2, 0.2, 0}}, {{4, 4, 1}}, {}});
-  body->refine_globally(2);
-  body->set_material(0, fem::Material{"soil", 1e8, 0.3, 1900});
-  body->set_gravity({{0, 0, 0}});
-  body->fix(body->boundary_id("zmin"));
-  body->fix(body->boundary_id("xmin"), {{true, false, false}});
-  body->fix(body->boundary_id("ymin"), {{false, true, false}});
   fem::SolverParameters solver;
   solver.relative_tolerance = 1e-12;
-  body->set_solver(solver);
-  body->setup();
-  return body;
+  return testing::elastic_box(communicator, {{4, 4, 1}}, 2, solver);
 }
 
 // Loads that differ from vertex to vertex and in every component, the same on every process.
