@@ -34,6 +34,7 @@ class InterfaceWall {
   // The wall in reference (undeformed) position, finalized; one part named after the boundary.
   const dem::TriangleMesh& mesh() const { return mesh_; }
   std::size_t num_vertices() const { return mesh_.vertices.size(); }
+  MPI_Comm communicator() const { return communicator_; }
 
   // DEM -> FE: replaces the body's interface load by the vertex loads (N, one per wall vertex,
   // the same on every process). Collective.

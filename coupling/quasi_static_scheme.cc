@@ -1,5 +1,7 @@
 #include "coupling/quasi_static_scheme.h"
 
+#include <mpi.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -25,8 +27,12 @@ double dot(const std::vector<dem::Vec3>& a, const std::vector<dem::Vec3>& b) {
   return sum;
 }
 
-// The smallest relaxation Aitken's factor may take: below it the interface would hardly move.
-constexpr double kSmallestRelaxation = 1e-3;
+// The smallest Aitken factor, as a fraction of the first: the secant reads the scatter of a bed's
+// load from one interval to the next as a change of the fixed point and can drive the factor to
+// nothing, freezing the wall while the load still changes.
+constexpr double kSmallestRelaxationFraction = 0.1;
+// Exchanges in a row whose residual exceeds the displacement before the run stops as diverged.
+constexpr int kDivergingExchanges = 10;
 
 }  // namespace
 
@@ -45,15 +51,47 @@ void QuasiStaticParameters::validate() const {
 
 QuasiStaticScheme::QuasiStaticScheme(dem::Simulation& sim, int mesh, fem::ElasticBody& body,
                                      InterfaceWall& wall, const QuasiStaticParameters& parameters)
-    : sim_(sim), mesh_(mesh), body_(body), wall_(wall), parameters_(parameters) {
-  parameters_.validate();
+    : sim_(&sim), mesh_(mesh), body_(body), wall_(wall), parameters_(parameters) {
   if (mesh < 0 || mesh >= static_cast<int>(sim.meshes().size()) || !sim.meshes()[mesh].deformable ||
       sim.meshes()[mesh].world.vertices.size() != wall.num_vertices())
     throw std::invalid_argument(
         "QuasiStaticScheme: mesh " + std::to_string(mesh) +
         " is not the deformable mesh of the interface wall (same vertices, same order)");
-  reference_ = wall.mesh().vertices;
+  start(sim.time_step());
+}
+
+QuasiStaticScheme::QuasiStaticScheme(fem::ElasticBody& body, InterfaceWall& wall,
+                                     const QuasiStaticParameters& parameters)
+    : sim_(nullptr), mesh_(-1), body_(body), wall_(wall), parameters_(parameters) {
+  start(0);
+}
+
+void QuasiStaticScheme::start(double time_step) {
+  parameters_.validate();
+  MPI_Bcast(&time_step, 1, MPI_DOUBLE, 0, wall_.communicator());
+  interval_seconds_ = parameters_.interval_steps * time_step;
+  reference_ = wall_.mesh().vertices;
   u_.assign(reference_.size(), dem::Vec3::Zero());
+  loads_.assign(reference_.size(), dem::Vec3::Zero());
+}
+
+QuasiStaticState QuasiStaticScheme::state() const {
+  return {exchanges_, last_relaxation_, u_, last_residual_, converged_, diverging_};
+}
+
+void QuasiStaticScheme::restore(QuasiStaticState state) {
+  if (state.displacement.size() != u_.size() ||
+      (!state.last_residual.empty() && state.last_residual.size() != u_.size()) ||
+      state.exchanges < 0)
+    throw InputError("coupling state: " + std::to_string(state.displacement.size()) +
+                     " interface vertices where the interface has " + std::to_string(u_.size()) +
+                     "; valid: a checkpoint of the same case");
+  exchanges_ = state.exchanges;
+  last_relaxation_ = state.last_relaxation;
+  u_ = std::move(state.displacement);
+  last_residual_ = std::move(state.last_residual);
+  converged_ = state.converged;
+  diverging_ = state.diverging;
 }
 
 double QuasiStaticScheme::next_relaxation(const std::vector<dem::Vec3>& r) {
@@ -67,7 +105,7 @@ double QuasiStaticScheme::next_relaxation(const std::vector<dem::Vec3>& r) {
   const double squared = dot(change, change);
   if (!(squared > 0)) return last_relaxation_;
   const double w = -last_relaxation_ * dot(last_residual_, change) / squared;
-  return std::clamp(w, kSmallestRelaxation, 1.0);
+  return std::clamp(w, kSmallestRelaxationFraction * parameters_.relaxation, 1.0);
 }
 
 ExchangeReport QuasiStaticScheme::exchange() {
@@ -75,10 +113,14 @@ ExchangeReport QuasiStaticScheme::exchange() {
   report.exchange = ++exchanges_;
   const auto start = std::chrono::steady_clock::now();
 
-  // DEM -> FE: the mean vertex loads, ramped.
-  std::vector<dem::Vec3> loads = sim_.meshes()[mesh_].deformation.take_mean_load();
+  // DEM -> FE: the mean vertex loads (from the DEM's process to all), ramped.
+  if (sim_) loads_ = sim_->meshes()[mesh_].deformation.take_mean_load();
+  static_assert(sizeof(dem::Vec3) == 3 * sizeof(double), "Vec3 is three packed doubles");
+  MPI_Bcast(loads_.data(), static_cast<int>(3 * loads_.size()), MPI_DOUBLE, 0,
+            wall_.communicator());
   report.ramp = std::min(1.0, static_cast<double>(exchanges_) / parameters_.ramp_exchanges);
   report.dem_load = dem::Vec3::Zero();
+  std::vector<dem::Vec3> loads = loads_;
   for (dem::Vec3& f : loads) {
     report.dem_load += f;
     f *= report.ramp;
@@ -99,25 +141,37 @@ ExchangeReport QuasiStaticScheme::exchange() {
   std::vector<dem::Vec3> fe_u, fe_v, r(u_.size());
   wall_.vertex_motion(fe_u, fe_v);
   for (std::size_t i = 0; i < u_.size(); ++i) r[i] = fe_u[i] - u_[i];
+  report.load_work = report.ramp * dot(loads_, fe_u);
   report.relaxation = next_relaxation(r);
   report.residual = rms(r);
+  const double work = dot(loads_, fe_u);
+  report.work_residual = work != 0 ? std::abs(dot(loads_, r) / work) : 0.0;
   std::vector<dem::Vec3> at(u_.size()), velocity(u_.size());
-  const double interval = parameters_.interval_steps * sim_.time_step();
   for (std::size_t i = 0; i < u_.size(); ++i) {
     at[i] = reference_[i] + u_[i];  // where the last interval's motion was to end
     const dem::Vec3 step = report.relaxation * r[i];
-    velocity[i] = step / interval;
+    velocity[i] = step / interval_seconds_;
     u_[i] += step;
   }
-  sim_.set_mesh_vertices(mesh_, at, velocity);
+  if (sim_) sim_->set_mesh_vertices(mesh_, at, velocity);
   last_residual_ = std::move(r);
   last_relaxation_ = report.relaxation;
   report.displacement = rms(u_);
   if (!std::isfinite(report.displacement))
     throw std::runtime_error("coupling: exchange " + std::to_string(report.exchange) +
                              ": the interface displacement is not finite (the coupling diverged)");
-  report.converged =
-      report.ramp == 1.0 && report.residual <= parameters_.tolerance * report.displacement;
+  report.converged = report.ramp == 1.0 && report.work_residual <= parameters_.tolerance;
+  converged_ = report.converged;
+  // A residual above the displacement itself, exchange after exchange once the load is complete,
+  // is an oscillation growing between the bed and the subgrade, not scatter.
+  diverging_ = report.ramp == 1.0 && report.work_residual > 1 ? diverging_ + 1 : 0;
+  if (diverging_ >= kDivergingExchanges)
+    throw std::runtime_error(
+        "coupling: exchange " + std::to_string(report.exchange) +
+        ": the interface residual has exceeded the displacement for " +
+        std::to_string(kDivergingExchanges) +
+        " exchanges (the staggered scheme diverges); valid: a lower coupling/relaxation, "
+        "coupling/aitken = true, or a longer coupling/interval");
   report.fe_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return report;

@@ -24,20 +24,11 @@
 #include <vector>
 
 #include "coupling/interface_wall.h"
+#include "coupling/parameters.h"
 #include "dem/engine/simulation.h"
 #include "fem/elastic_body.h"
 
 namespace trackbed::coupling {
-
-struct QuasiStaticParameters {
-  int interval_steps = 100;  // DEM steps per exchange, >= 1
-  double relaxation = 0.5;   // the first (or, without Aitken, every) relaxation factor, (0, 1]
-  bool aitken = true;        // Aitken's dynamic relaxation after the first exchange
-  double tolerance = 1e-3;   // converged at |r| <= tolerance |u| (RMS over the vertices)
-  int ramp_exchanges = 5;    // the load reaches its full value at this exchange, >= 1
-  // Throws InputError naming the parameter for a value outside its range.
-  void validate() const;
-};
 
 // What one exchange did.
 struct ExchangeReport {
@@ -47,43 +38,72 @@ struct ExchangeReport {
   dem::Vec3 fe_load;         // FE load resultant, N (ramp times dem_load)
   double balance_error = 0;  // |fe_load - ramp dem_load| / |ramp dem_load|
   double residual = 0;       // RMS |u~ - u_k|, m
+  double work_residual = 0;  // |F . (u~ - u_k)| / |F . u~|, F the mean vertex loads
   double displacement = 0;   // RMS |u_k+1|, m
   double relaxation = 0;     // w_k used
+  double load_work = 0;      // f . U = sum_v (ramp F_v) . u~_v, J: twice the FE strain energy
   bool converged = false;
   unsigned int fe_iterations = 0;
   double fe_seconds = 0;  // the FE solve and the maps
 };
 
+// The relaxation's memory, all a checkpoint needs of the scheme (with the FE displacement).
+struct QuasiStaticState {
+  int exchanges = 0;
+  double last_relaxation = 0;
+  std::vector<dem::Vec3> displacement;   // u_k, the interface displacement the wall moves to
+  std::vector<dem::Vec3> last_residual;  // r_k-1 (Aitken)
+  bool converged = false;                // the last exchange's verdict
+  int diverging = 0;                     // exchanges in a row with a residual above u
+};
+
 class QuasiStaticScheme {
  public:
-  // `mesh`: the index in sim.meshes() of the deformable mesh built from wall.mesh() (its
-  // vertices in the same order, at the reference positions). The FE body must be set up and
-  // loaded only through the interface (its own gravity off: displacements are measured from the
-  // geostatic state).
+  // On the process with the DEM (rank 0 of the wall's communicator). `mesh`: the index in
+  // sim.meshes() of the deformable mesh built from wall.mesh() (its vertices in the same order,
+  // at the reference positions). The FE body must be set up and loaded only through the
+  // interface (its own gravity off: displacements are measured from the geostatic state).
+  // Collective over the wall's communicator, with the constructor below on the other processes.
   QuasiStaticScheme(dem::Simulation& sim, int mesh, fem::ElasticBody& body, InterfaceWall& wall,
                     const QuasiStaticParameters& parameters);
+  // On a process that has FE cells but no DEM: it takes part in every exchange.
+  QuasiStaticScheme(fem::ElasticBody& body, InterfaceWall& wall,
+                    const QuasiStaticParameters& parameters);
 
-  // The exchange after the caller's interval_steps DEM steps (steps 2 to 5 above). Throws
-  // std::runtime_error when the load balance check fails or the interface displacement is not
-  // finite (a diverging coupling).
+  // The exchange after the caller's interval_steps DEM steps (steps 2 to 5 above); collective,
+  // the DEM's loads sent to every process. Throws std::runtime_error when the load balance check
+  // fails or the interface displacement is not finite (a diverging coupling).
   ExchangeReport exchange();
+  // The last exchange's mean vertex loads (N, before the ramp).
+  const std::vector<dem::Vec3>& vertex_loads() const { return loads_; }
   int interval_steps() const { return parameters_.interval_steps; }
 
   const std::vector<dem::Vec3>& interface_displacement() const { return u_; }
+  // The last exchange converged (false before the first).
+  bool converged() const { return converged_; }
+  QuasiStaticState state() const;
+  // Continues from state() of the same scheme (the DEM's wall vertices come with its own state).
+  // Throws InputError for a state of another interface.
+  void restore(QuasiStaticState state);
 
  private:
+  void start(double time_step);
   double next_relaxation(const std::vector<dem::Vec3>& r);
 
-  dem::Simulation& sim_;
+  dem::Simulation* sim_;  // null on the processes without the DEM
   int mesh_;
   fem::ElasticBody& body_;
   InterfaceWall& wall_;
   QuasiStaticParameters parameters_;
+  double interval_seconds_ = 0;       // T times the DEM step
   std::vector<dem::Vec3> reference_;  // the wall's vertices at zero displacement
-  std::vector<dem::Vec3> u_;          // interface displacement the wall moves to
+  std::vector<dem::Vec3> loads_;
+  std::vector<dem::Vec3> u_;  // interface displacement the wall moves to
   std::vector<dem::Vec3> last_residual_;
   double last_relaxation_ = 0;
   int exchanges_ = 0;
+  bool converged_ = false;
+  int diverging_ = 0;
 };
 
 }  // namespace trackbed::coupling

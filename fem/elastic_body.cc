@@ -477,6 +477,29 @@ SolveReport ElasticBody::solve_static() {
   return report;
 }
 
+std::vector<double> ElasticBody::displacement_dofs() const {
+  const Impl& d = *impl_;
+  // Each dof has one owner and zeros elsewhere, so the sum over processes is exact.
+  std::vector<double> values(d.dof_handler.n_dofs(), 0.0), all(values.size());
+  for (const auto i : d.owned_dofs) values[i] = d.solution[i];
+  MPI_Allreduce(values.data(), all.data(), static_cast<int>(values.size()), MPI_DOUBLE, MPI_SUM,
+                d.communicator);
+  return all;
+}
+
+void ElasticBody::set_displacement_dofs(const std::vector<double>& values) {
+  Impl& d = *impl_;
+  if (!d.is_set_up) setup();
+  if (values.size() != d.dof_handler.n_dofs())
+    throw InputError(d.mesh_description + ": " + std::to_string(values.size()) +
+                     " displacement values for " + std::to_string(d.dof_handler.n_dofs()) +
+                     " degrees of freedom; valid: the state of the same mesh and degree");
+  for (const auto i : d.owned_dofs) d.solution[i] = values[i];
+  d.solution.compress(VectorOperation::insert);
+  d.velocity = 0.0;
+  d.update_ghosts();
+}
+
 double ElasticBody::time() const {
   return impl_->time;
 }

@@ -142,6 +142,12 @@ class ElasticBody {
   // Force and moment about `reference` of the loads added by BoundaryInterface::add_forces.
   LoadResultant interface_load_resultant(const Vector3& reference) const;
   std::uint64_t n_dofs() const;
+  // The displacement in global dof order, the same on every process: the state a checkpoint keeps
+  // (a later solve starts from it). Collective.
+  std::vector<double> displacement_dofs() const;
+  // Restores displacement_dofs() of a body built and set up alike (velocity zero). Collective.
+  // Throws InputError for a count that is not n_dofs().
+  void set_displacement_dofs(const std::vector<double>& values);
   std::uint64_t n_cells() const;
   // VTU pieces and a PVTU record "<directory>/<base>_<step>.pvtu" with displacement, velocity,
   // stress components, von Mises stress, material id and MPI rank; returns the record's path.

@@ -134,7 +134,8 @@ void ElasticBody::make_track_section(const TrackSection& s, const double element
     const double bottom = z_levels.back();
     const unsigned int n = count(top - bottom, h);
     for (unsigned int i = 1; i <= n; ++i) {
-      z_levels.push_back(bottom + (top - bottom) * i / n);
+      // The layer's top exactly (the formation at z = 0 is where the DEM base was).
+      z_levels.push_back(i == n ? top : bottom + (top - bottom) * i / n);
       row_material.push_back(material_id);
     }
   };

@@ -1,15 +1,19 @@
 // trackbed: railway ballast track simulator. The command line:
-//   trackbed run CASE.prm [--mode dem] [--threads N] [--output DIR]
-//   trackbed resume DIR [--threads N]        continue an interrupted run from its checkpoint
+//   trackbed run CASE.prm [--mode dem|coupled] [--threads N] [--output DIR]
+//   mpirun -np P trackbed run COUPLED.prm       the FE subgrade on P processes, the DEM on the
+//   first trackbed resume DIR [--threads N]        continue an interrupted run from its checkpoint
 //   trackbed build-sample SAMPLE.prm [--threads N] [--output DIR]
 //   trackbed --print-parameters      every case-file parameter with default and documentation
 //   trackbed build-sample --print-parameters   the same for sample files
 //   trackbed --help | --version
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <iterator>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -21,6 +25,9 @@
 #include "cases/runs/sample_checkpoint.h"
 #include "cases/runs/sample_run.h"
 #include "common/input_error.h"
+#include "dem/io/sample.h"
+#include "dem/samples/section_model.h"
+#include "fem/mpi_session.h"
 
 namespace {
 
@@ -39,13 +46,52 @@ const char* const kUsage =
     "would have.\n"
     "build-sample builds a ballast sample of a track section (deposition, compaction, sleeper\n"
     "seating, balls converted to clumps in a zone) and writes sample.h5 for cases to load.\n"
-    "  --mode      override 'mode' (dem: DEM with rigid walls; coupled: with the FE tier)\n"
+    "  --mode      override 'mode' (dem: DEM with rigid walls; coupled: the bed on an FE\n"
+    "              subgrade; 'mpirun -np P trackbed run ...' spreads the FE over P processes)\n"
     "  --threads   OpenMP threads (overrides 'simulation/threads')\n"
     "  --output    results folder (overrides 'output/folder')\n";
 
+// The processes of the launch as mpirun tells them (1 without mpirun), and this one's rank,
+// known before MPI starts: only a coupled run starts it.
+int launch_value(const char* open_mpi, const char* pmi, int otherwise) {
+  for (const char* name : {open_mpi, pmi})
+    if (const char* v = std::getenv(name)) return std::atoi(v);
+  return otherwise;
+}
+int launched_processes() {
+  return launch_value("OMPI_COMM_WORLD_SIZE", "PMI_SIZE", 1);
+}
+int launch_rank() {
+  return launch_value("OMPI_COMM_WORLD_RANK", "PMI_RANK", 0);
+}
+
+// One line on stderr, from the first process only (the others of a launch meet the same error).
 int fail(const std::string& message, int code = 2) {
-  std::cerr << "trackbed: error: " << message << std::endl;
+  if (launch_rank() == 0) std::cerr << "trackbed: error: " << message << std::endl;
   return code;
+}
+
+// Starts MPI (once) for a coupled run; returns this process's rank.
+using StartMpi = std::function<int()>;
+
+// A DEM run or a sample build is one process (its OpenMP threads); only a coupled run spreads
+// its FE subgrade over an MPI launch.
+void require_one_process(const std::string& what) {
+  if (launched_processes() > 1)
+    throw trackbed::InputError(what +
+                               " runs in one process, with OpenMP threads; valid: one "
+                               "process, or mode = coupled under mpirun (its FE subgrade on "
+                               "every process)");
+}
+
+// A process of a coupled launch other than the first: builds its part of the FE subgrade and
+// takes part in every exchange the first announces, until the run ends.
+int serve_subgrade(const trackbed::cases::CaseParameters& prm) {
+  if (prm.sample_file.empty()) return 2;  // the first process says why
+  const trackbed::dem::Sample sample = trackbed::dem::read_sample(prm.sample_file);
+  trackbed::cases::SubgradeCoupling subgrade(prm, trackbed::dem::section_of(sample));
+  subgrade.serve();
+  return 0;
 }
 
 // The options common to run and build-sample: --threads N and --output DIR (and --mode for run).
@@ -116,7 +162,7 @@ int resumed_threads(int asked, int saved) {
   return threads;
 }
 
-int resume(const std::vector<std::string>& args) {
+int resume(const std::vector<std::string>& args, const StartMpi& start_mpi) {
   namespace fs = std::filesystem;
   using namespace trackbed::cases;
   if (args.size() < 2) return fail("'resume' needs a results folder: trackbed resume DIR");
@@ -146,6 +192,7 @@ int resume(const std::vector<std::string>& args) {
                 "Ctrl-C or SIGTERM)");
   }
   if (is_sample_checkpoint(path)) {
+    require_one_process("a sample build");
     SampleCheckpoint checkpoint = read_sample_checkpoint(path);
     require_file(path, checkpoint.sample_file, "sample file");
     SampleParameters prm = read_sample_file(checkpoint.sample_file);
@@ -160,6 +207,12 @@ int resume(const std::vector<std::string>& args) {
   CaseParameters prm = read_case_file(checkpoint.case_file);
   require_unchanged(checkpoint.case_file, checkpoint.case_fingerprint, prm.fingerprint);
   prm.output_folder = dir;
+  if (checkpoint.coupled) {
+    prm.mode = "coupled";
+    if (start_mpi() > 0) return serve_subgrade(prm);
+  } else {
+    require_one_process("a DEM run");
+  }
   prm.threads = resumed_threads(threads, checkpoint.threads);
   DemRun run(std::move(prm));
   return run.resume(std::move(checkpoint));
@@ -172,6 +225,7 @@ int build_sample(const std::vector<std::string>& args) {
   }
   if (args.size() < 2)
     return fail("'build-sample' needs a sample file: trackbed build-sample SAMPLE.prm");
+  require_one_process("a sample build");
   trackbed::cases::SampleParameters prm = trackbed::cases::read_sample_file(args[1]);
   std::string unused;
   const std::string bad = parse_options(args, false, unused, prm.threads, prm.output_folder);
@@ -182,8 +236,31 @@ int build_sample(const std::vector<std::string>& args) {
 
 }  // namespace
 
+// trackbed run CASE.prm [options]
+int run(const std::vector<std::string>& args, const StartMpi& start_mpi) {
+  if (args.size() < 2) return fail("'run' needs a case file: trackbed run CASE.prm");
+  trackbed::cases::CaseParameters prm = trackbed::cases::read_case_file(args[1]);
+  const std::string bad = parse_options(args, true, prm.mode, prm.threads, prm.output_folder);
+  if (!bad.empty()) return fail(bad);
+  if (prm.mode == "coupled") {
+    if (start_mpi() > 0) return serve_subgrade(prm);
+  } else {
+    require_one_process("a DEM run (mode = dem)");
+  }
+  trackbed::cases::DemRun dem_run(std::move(prm));
+  return dem_run.run();
+}
+
 int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
+  // Declared before every run so that it outlives them: MPI ends after the last collective call.
+  std::unique_ptr<trackbed::fem::MpiSession> mpi;
+  const StartMpi start_mpi = [&] {
+    if (!mpi) mpi = std::make_unique<trackbed::fem::MpiSession>(argc, argv);
+    int rank = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    return rank;
+  };
   if (args.empty()) return fail(std::string("no command given\n") + kUsage);
   if (args[0] == "--help" || args[0] == "-h") {
     std::cout << kUsage;
@@ -202,17 +279,8 @@ int main(int argc, char** argv) {
                 "'; valid: run, resume, build-sample, --print-parameters, --help, --version");
   try {
     if (args[0] == "build-sample") return build_sample(args);
-    if (args[0] == "resume") return resume(args);
-    if (args.size() < 2) return fail("'run' needs a case file: trackbed run CASE.prm");
-    trackbed::cases::CaseParameters prm = trackbed::cases::read_case_file(args[1]);
-    const std::string bad = parse_options(args, true, prm.mode, prm.threads, prm.output_folder);
-    if (!bad.empty()) return fail(bad);
-    if (prm.mode == "coupled")
-      return fail(prm.file +
-                  ": mode = coupled needs the FE tier, which this build does not "
-                  "have yet; valid: mode = dem");
-    trackbed::cases::DemRun run(std::move(prm));
-    return run.run();
+    if (args[0] == "resume") return resume(args, start_mpi);
+    return run(args, start_mpi);
   } catch (const trackbed::InputError& e) {
     return fail(e.what());
   } catch (const std::exception& e) {

@@ -8,6 +8,7 @@
 #include <iterator>
 #include <sstream>
 
+#include "cases/parameters/coupling_parameters.h"
 #include "cases/parameters/prm_support.h"
 #include "common/input_error.h"
 
@@ -466,6 +467,8 @@ void declare(ParameterHandler& prm) {
   declare_meshes(prm);
   declare_particles(prm);
   declare_push_test(prm);
+  declare_coupling(prm);
+  declare_fem(prm);
   declare_output(prm);
 }
 
@@ -488,6 +491,8 @@ CaseParameters read_case_file(const std::string& path) {
   parse_meshes(prm, in, c);
   parse_particles(prm, in, c);
   parse_push_test(prm, in, c);
+  parse_coupling(prm, in, c);
+  parse_fem(prm, in, c);
   parse_output(prm, in, c);
   check_sources(c, path);
   c.fingerprint = fingerprint(prm);

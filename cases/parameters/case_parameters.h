@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cases/runs/push_test.h"
+#include "coupling/parameters.h"
 #include "dem/engine/material.h"
 #include "dem/engine/mesh_body.h"
 #include "dem/engine/types.h"
@@ -76,6 +77,9 @@ struct CaseParameters {
   std::vector<std::pair<std::string, std::string>> templates;  // name, CSV file
   GeneratorParameters generator;
   PushTestParameters push;  // push.mesh empty: no push test
+  // mode = coupled: the scheme and the FE subgrade under the sample's ballast bed
+  coupling::QuasiStaticParameters coupling;
+  coupling::SubgradeParameters subgrade;
   // output
   std::string output_folder = "results/default";
   double history_interval = 1e-3, vtu_interval = 0, snapshot_interval = 0, progress_interval = 2;

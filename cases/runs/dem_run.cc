@@ -25,6 +25,7 @@
 #include "dem/io/snapshot.h"
 #include "dem/io/stl_file.h"
 #include "dem/samples/random_packing.h"
+#include "dem/samples/section_model.h"
 
 namespace trackbed::cases {
 
@@ -63,6 +64,17 @@ DemRun::DemRun(CaseParameters parameters)
 DemRun::~DemRun() = default;
 
 void DemRun::build_model() {
+  std::optional<dem::Sample> sample;
+  if (!prm_.sample_file.empty()) sample = dem::read_sample(prm_.sample_file);
+  if (prm_.mode == "coupled") {
+    if (!sample)
+      throw InputError(prm_.file +
+                       ": mode = coupled needs particles/sample file, a track-section sample (its "
+                       "section gives the subgrade's formation); valid: a sample built by "
+                       "'trackbed build-sample'");
+    make_subgrade(*sample);
+  }
+
   dem::MaterialTable materials;
   for (const auto& m : prm_.materials) materials.add(m);
   for (const auto& p : prm_.pairs) {
@@ -76,9 +88,7 @@ void DemRun::build_model() {
     templates.emplace(name, dem::read_clump_template_csv(file, name));
 
   dem::Particles particles;
-  std::optional<dem::Sample> sample;
-  if (!prm_.sample_file.empty()) {
-    sample = dem::read_sample(prm_.sample_file);
+  if (sample) {
     sample_material_.clear();
     for (const auto& name : sample->materials)
       sample_material_.push_back(material_index(
@@ -117,8 +127,9 @@ void DemRun::build_model() {
   settings.track_energy = prm_.track_energy;
   sim_ = std::make_unique<dem::Simulation>(std::move(materials), std::move(particles), settings);
 
-  if (sample && prm_.sample_walls)
-    for (dem::PlaneWall w : sample->planes) {
+  if (sample)
+    for (const int k : kept_sample_planes(*sample)) {
+      dem::PlaneWall w = sample->planes[k];
       w.material = sample_material_[w.material];
       sim_->add_plane(w);
     }
@@ -173,6 +184,34 @@ void DemRun::build_model() {
     }
     sim_->add_mesh_body(std::move(body));
   }
+  if (subgrade_) {
+    // The formation carries the material of the base plane it replaces.
+    const auto base = std::find_if(sample->planes.begin(), sample->planes.end(),
+                                   [](const dem::PlaneWall& w) { return w.name == "base"; });
+    const int material = base == sample->planes.end() ? 0 : sample_material_[base->material];
+    formation_mesh_ = sim_->add_mesh_body(subgrade_->formation_body(material));
+  }
+}
+
+void DemRun::make_subgrade(const dem::Sample& sample) {
+  const TrackSection section = dem::section_of(sample);
+  subgrade_ = std::make_unique<SubgradeCoupling>(prm_, section);
+  std::cout << "trackbed: coupled: " << subgrade_->description() << std::endl;
+}
+
+std::vector<int> DemRun::kept_sample_planes(const dem::Sample& sample) const {
+  std::vector<int> kept;
+  if (!prm_.sample_walls) return kept;
+  for (int k = 0; k < static_cast<int>(sample.planes.size()); ++k)
+    if (!(subgrade_ && sample.planes[k].name == "base")) kept.push_back(k);
+  return kept;
+}
+
+int DemRun::sleeper_mesh() const {
+  const auto& meshes = sim_->meshes();
+  for (int k = 0; k < static_cast<int>(meshes.size()); ++k)
+    if (meshes[k].name == (prm_.push.mesh.empty() ? "sleeper" : prm_.push.mesh)) return k;
+  return -1;
 }
 
 dem::Particles DemRun::sample_particles(const dem::Sample& sample,
@@ -189,16 +228,26 @@ dem::Particles DemRun::sample_particles(const dem::Sample& sample,
       for (int e = p.first_element[b]; e < p.first_element[b + 1]; ++e) p.material[e] = clump;
     }
   }
-  // Sample walls keep their numbers when they are added (first); its meshes are matched by name
-  // to the case's meshes taken from the sample; contacts with anything else are dropped.
+  // The sample walls the run keeps come first, in their order; its meshes are matched by name
+  // to the case's meshes taken from the sample; contacts with anything else are dropped (but
+  // those with a base a subgrade's formation replaces).
   const int sample_planes = static_cast<int>(sample.planes.size());
-  const int planes = prm_.sample_walls ? sample_planes : 0;
-  int case_planes = planes + static_cast<int>(prm_.planes.size());
+  std::vector<int> plane_number(sample_planes, -1);
+  const std::vector<int> kept = kept_sample_planes(sample);
+  for (int k = 0; k < static_cast<int>(kept.size()); ++k) plane_number[kept[k]] = k;
+  const int case_planes = static_cast<int>(kept.size() + prm_.planes.size());
   sample_contacts_ = dem::ContactState();
   sample_contacts_.pairs = sample.contacts.pairs;
   for (dem::SavedWallContact c : sample.contacts.walls) {
-    if (c.wall < sample_planes) {
-      if (!prm_.sample_walls) continue;
+    if (c.wall < sample_planes && subgrade_ && sample.planes[c.wall].name == "base") {
+      // A spring on the base carries over to the formation that replaces it (added after the
+      // case's meshes): the element's only contact with it, facing the same way.
+      c.normal = sample.planes[c.wall].normal;
+      c.wall = case_planes + static_cast<int>(prm_.meshes.size());
+      c.slot = 0;
+    } else if (c.wall < sample_planes) {
+      if (plane_number[c.wall] < 0) continue;
+      c.wall = plane_number[c.wall];
     } else {
       const std::string& name = sample.meshes[c.wall - sample_planes].name;
       int k = 0;
@@ -310,6 +359,7 @@ void DemRun::write_frame() {
   pvd_particles_->add(sim_->time(), frame_file("particles", k));
   pvd_contacts_->add(sim_->time(), frame_file("contacts", k));
   pvd_walls_->add(sim_->time(), frame_file("walls", k));
+  if (subgrade_) subgrade_->write_frame(k, sim_->time());
 }
 
 void DemRun::write_snapshot() {
@@ -399,6 +449,7 @@ void DemRun::start_fresh() {
   make_push_test();
   open_outputs();
   remove_outputs_after(-1);  // an earlier run's frames and snapshots in this folder
+  if (subgrade_) subgrade_->start(*sim_, formation_mesh_, sleeper_mesh(), out_);
   // and its checkpoint: were this run stopped before its first, resume must not go back to it.
   fs::remove(fs::path(out_) / kCheckpointFile);
 
@@ -442,6 +493,12 @@ void DemRun::start_from(RunCheckpoint& c) {
   part_first_step_ = step;
   open_outputs(&c);
   remove_outputs_after(step);
+  if (c.coupled != (subgrade_ != nullptr))
+    throw InputError(prm_.file + ": the checkpoint is of a " + (c.coupled ? "coupled" : "DEM") +
+                     " run and the case's mode is " + prm_.mode +
+                     "; valid: the mode the run started with");
+  if (subgrade_)
+    subgrade_->start(*sim_, formation_mesh_, sleeper_mesh(), out_, &c.coupling, c.frame_times);
   std::cout << "trackbed: resuming " << prm_.file << " in " << out_ << " at t = " << sim_->time()
             << " s (step " << step << " of about " << total_steps_ << "), "
             << sim_->particles().num_elements() << " sphere elements, " << sim_->team_size()
@@ -458,6 +515,12 @@ void DemRun::remove_outputs_after(long step) {
     if (dash != std::string::npos && std::atoi(name.c_str() + dash + 1) >= frame_)
       fs::remove(entry.path());
   }
+  if (fs::is_directory(fs::path(out_) / "fem"))
+    for (const auto& entry : fs::directory_iterator(fs::path(out_) / "fem")) {
+      const std::string name = entry.path().filename().string();  // fem_NNNNN[.RRRR].(p)vtu
+      if (name.rfind("fem_", 0) == 0 && std::atoi(name.c_str() + 4) >= frame_)
+        fs::remove(entry.path());
+    }
   for (const auto& entry : fs::directory_iterator(fs::path(out_) / "snapshots")) {
     const std::string name = entry.path().filename().string();
     if (name.rfind("state-", 0) == 0 && std::atol(name.c_str() + 6) > step)
@@ -506,6 +569,8 @@ void DemRun::write_checkpoint() {
   c.initial_positions = initial_positions_;
   c.has_push = push_ != nullptr;
   if (push_) c.push = push_->progress();
+  c.coupled = subgrade_ != nullptr;
+  if (subgrade_) c.coupling = subgrade_->progress();
   write_run_checkpoint(out_ + "/" + kCheckpointFile, c);
   last_checkpoint_ = Clock::now();
 }
@@ -521,7 +586,7 @@ void DemRun::advance() {
     }
     if (push_) {
       const bool held = !push_->pushing();
-      push_->control(*sim_);
+      push_->control(*sim_, !subgrade_ || subgrade_->settled());
       // A push test's snapshots run on the push's clock: one where the push starts, the bed at
       // rest under the sleeper (a pilot zone's reference, docs/zones.md#pilot-zones), then one
       // every interval.
@@ -531,6 +596,7 @@ void DemRun::advance() {
       }
     }
     sim_->step();
+    if (subgrade_) subgrade_->after_step();
     const double t = sim_->time() + 0.5 * dt;  // tolerant of round-off in the clock
     if (prm_.history_interval > 0 && t >= next_history_) {
       write_history();
@@ -576,6 +642,7 @@ void DemRun::finish(const std::string& status) {
   series_->walls->commit();
   series_->energy->commit();
   series_->bodies->commit();
+  if (subgrade_) subgrade_->finish();
   if (push_) push_->write_csv(out_ + "/push.csv");
   write_summary(status);
   if (prm_.plot && finished) make_plot();
@@ -627,6 +694,11 @@ void DemRun::write_summary(const std::string& status) {
                        "mesh " + m.name + " force " + "xyz"[k], "N", m.contact_force[k]});
   if (push_)
     for (const auto& i : push_->summary()) items.push_back(i);
+  if (subgrade_) {
+    for (const auto& i : subgrade_->summary()) items.push_back(i);
+    items.push_back({"fe_coupling_share", "share of the wall time in FE and coupling", "",
+                     subgrade_->fe_seconds() / wall});
+  }
 
   dem::AtomicFile json(out_ + "/summary.json");
   json.stream() << std::setprecision(10) << "{\n  \"case\": \"" << json_escape(prm_.file)

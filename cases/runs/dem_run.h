@@ -1,4 +1,5 @@
-// A standalone DEM run (mode = dem): builds the model a case file describes, runs it with a
+// A DEM run: standalone (mode = dem), or on an FE subgrade (mode = coupled, subgrade_coupling.h,
+// whose outputs it adds). Builds the model a case file describes, runs it with a
 // progress line, and writes the results folder:
 //   history/walls.csv, history/energy.csv, history/bodies.csv   time series
 //   particles.pvd, contacts.pvd, walls.pvd (+ vtu/)              ParaView
@@ -18,6 +19,7 @@
 #include "cases/parameters/case_parameters.h"
 #include "cases/runs/push_test.h"
 #include "cases/runs/run_checkpoint.h"
+#include "cases/runs/subgrade_coupling.h"
 #include "dem/engine/contact_state.h"
 #include "dem/engine/simulation.h"
 #include "dem/io/sample.h"
@@ -37,6 +39,13 @@ class DemRun {
 
  private:
   void build_model();
+  // mode = coupled: the subgrade under the sample's section (first, so that the MPI processes
+  // that serve it build it with this one); its formation replaces the sample's base plane.
+  void make_subgrade(const dem::Sample& sample);
+  // The sample's plane walls the run keeps (all but a coupled run's base), in order.
+  std::vector<int> kept_sample_planes(const dem::Sample& sample) const;
+  // The mesh whose settlement a coupled run reports: the pushed one, else one named "sleeper".
+  int sleeper_mesh() const;
   // The bodies of particles/sample file with the case's material indices, and the sample's
   // contact springs renumbered to the model's walls (restored after setup).
   // With particles/clump material, the clumps get that material.
@@ -72,6 +81,8 @@ class DemRun {
   struct Series;
   std::unique_ptr<Series> series_;
   std::unique_ptr<PushTest> push_;
+  std::unique_ptr<SubgradeCoupling> subgrade_;
+  int formation_mesh_ = -1;
   std::unique_ptr<dem::PvdCollection> pvd_particles_, pvd_contacts_, pvd_walls_;
   std::vector<dem::Vec3> initial_positions_;
   std::vector<int> tracked_;  // body indices of output/tracked bodies

@@ -53,12 +53,13 @@ bool PushTest::finished() const {
   return leg_ >= prm_.path.size();
 }
 
-void PushTest::control(dem::Simulation& sim) {
+void PushTest::control(dem::Simulation& sim, bool foundation_settled) {
   constexpr long kCheckEvery = 200;
   constexpr int kConfirmations = 3;
   if (!pushing() && sim.time() >= prm_.min_hold && sim.step_count() % kCheckEvery == 0) {
     hold_ratio_ = sim.unbalanced_force_ratio();
-    confirmations_ = hold_ratio_ < prm_.equilibrium_ratio ? confirmations_ + 1 : 0;
+    const bool at_rest = hold_ratio_ < prm_.equilibrium_ratio && foundation_settled;
+    confirmations_ = at_rest ? confirmations_ + 1 : 0;
     hold_converged_ = confirmations_ >= kConfirmations;
     if (hold_converged_ || sim.time() >= prm_.max_hold) {
       push_start_ = sim.time();

@@ -6,7 +6,8 @@
 // sleeper's base, sides facing the cribs, ends facing the shoulders).
 //
 //   equilibrium: mean unbalanced force ratio (Simulation::unbalanced_force_ratio) below
-//                `equilibrium ratio` at 3 checks in a row, 200 steps apart, after `minimum hold`;
+//                `equilibrium ratio` (and, on a coupled subgrade, the coupling converged) at 3
+//                checks in a row, 200 steps apart, after `minimum hold`;
 //                at `maximum hold` the push starts anyway and the summary says so
 //
 //   resistance R = -F . e     F: contact force the particles exert on the body, e: push direction
@@ -68,8 +69,10 @@ class PushTest {
   bool finished() const;
   // The hold is over and the push has started.
   bool pushing() const { return push_start_ >= 0; }
-  // Before every step: holds (or frees) the push DOF until equilibrium, then moves it.
-  void control(dem::Simulation& sim);
+  // Before every step: holds (or frees) the push DOF until equilibrium, then moves it. The hold
+  // also waits for `foundation_settled`: what the bed rests on is at rest too (a coupled
+  // subgrade whose staggered scheme has converged).
+  void control(dem::Simulation& sim, bool foundation_settled = true);
   // After a history row: one row of push.csv (during the push only).
   void record(const dem::Simulation& sim);
 

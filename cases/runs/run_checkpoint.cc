@@ -27,6 +27,39 @@ dem::EnergyBudget energy_of(const std::vector<double>& v) {
   return e;
 }
 
+// A coupled run's group "coupling": the FE displacement, the scheme's memory, the run's sums.
+void write_coupling(hid_t file, const SubgradeCoupling::Progress& p) {
+  Handle g(hdf5::create_group(file, "coupling"), H5Gclose, "group coupling");
+  const coupling::QuasiStaticState& s = p.scheme;
+  hdf5::write_doubles(g, "fe_displacement", p.fe_displacement);
+  hdf5::write_doubles(
+      g, "counters",
+      {double(s.exchanges), s.last_relaxation, s.converged ? 1.0 : 0.0, p.interface_work,
+       p.strain_energy, p.fe_seconds, p.sleeper_z0, double(s.diverging)});
+  hdf5::write_vectors(g, "interface_displacement", s.displacement);
+  hdf5::write_vectors(g, "last_residual", s.last_residual);
+  hdf5::write_vectors(g, "interval_origin", p.interval_origin);
+  hdf5::write_integers(g, "history_bytes",
+                       std::vector<std::int64_t>(p.history_bytes.begin(), p.history_bytes.end()));
+}
+
+SubgradeCoupling::Progress read_coupling(hid_t file, const std::string& path) {
+  Handle g(hdf5::open_group(file, path, "coupling"), H5Gclose, "group coupling");
+  SubgradeCoupling::Progress p;
+  coupling::QuasiStaticState& s = p.scheme;
+  p.fe_displacement = hdf5::read_doubles(g, path, "fe_displacement");
+  const auto n = hdf5::read_doubles(g, path, "counters", 8);
+  s.exchanges = static_cast<int>(n[0]), s.last_relaxation = n[1], s.converged = n[2] != 0;
+  p.interface_work = n[3], p.strain_energy = n[4], p.fe_seconds = n[5], p.sleeper_z0 = n[6];
+  s.diverging = static_cast<int>(n[7]);
+  s.displacement = hdf5::read_vectors(g, path, "interface_displacement");
+  s.last_residual = hdf5::read_vectors(g, path, "last_residual");
+  p.interval_origin = hdf5::read_vectors(g, path, "interval_origin");
+  const auto bytes = hdf5::read_integers(g, path, "history_bytes", 2);
+  p.history_bytes.assign(bytes.begin(), bytes.end());
+  return p;
+}
+
 }  // namespace
 
 void write_run_checkpoint(const std::string& path, const RunCheckpoint& c) {
@@ -63,6 +96,7 @@ void write_run_checkpoint(const std::string& path, const RunCheckpoint& c) {
       hdf5::write_string_attribute(g, "columns", std::to_string(cols));
       if (!p.start_support.empty()) hdf5::write_doubles(g, "start_support", p.start_support);
     }
+    if (c.coupled) write_coupling(file, c.coupling);
   });
 }
 
@@ -108,6 +142,8 @@ RunCheckpoint read_run_checkpoint(const std::string& path) {
     if (hdf5::exists(g, "start_support"))
       c.push.start_support = hdf5::read_doubles(g, path, "start_support");
   }
+  c.coupled = hdf5::exists(file, "coupling");
+  if (c.coupled) c.coupling = read_coupling(file, path);
   return c;
 }
 

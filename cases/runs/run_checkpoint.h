@@ -5,7 +5,8 @@
 //   - what the run has written: the bytes of each CSV history, the times of the ParaView frames;
 //   - its clocks and counters: next history row, frame and snapshot, the start's energy and
 //     element positions (for displacements), the wall and loop seconds spent;
-//   - the push test's progress (push_test.h).
+//   - the push test's progress (push_test.h);
+//   - a coupled run's FE displacement and staggered scheme (subgrade_coupling.h).
 // Written to DIR/checkpoint.h5 under a temporary name and renamed, so a run killed while writing
 // keeps its previous checkpoint. Format: docs/formats.md, "Checkpoints".
 #pragma once
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "cases/runs/push_test.h"
+#include "cases/runs/subgrade_coupling.h"
 #include "dem/io/engine_state.h"
 
 namespace trackbed::cases {
@@ -36,6 +38,9 @@ struct RunCheckpoint {
 
   bool has_push = false;
   PushTest::Progress push;
+
+  bool coupled = false;  // mode = coupled: the subgrade's FE state and the scheme's
+  SubgradeCoupling::Progress coupling;
 };
 
 // The file name in a results folder.

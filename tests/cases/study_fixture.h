@@ -23,6 +23,10 @@ class Study : public Cli {
   const std::map<std::string, std::string>& sample_of() const { return sample_of_; }
   fs::path sample(const std::string& name) const { return work_ / "samples" / name; }
   fs::path results(const std::string& model) const { return work_ / "runs" / model; }
+  // The shipped small case file of `model`.
+  std::string small_case(const std::string& model) const {
+    return source_ + "/cases/" + study_ + "/small/" + model + ".prm";
+  }
 
   void build_base_sample() {
     const Result r = run("build-sample " + source_ + "/cases/samples/" + base_ +
@@ -52,7 +56,7 @@ class Study : public Cli {
                      const std::pair<std::string, std::string>& variant = {}) {
     const fs::path out = results(variant.first.empty() ? model : variant.first);
     const Result r =
-        run_including("run", source_ + "/cases/" + study_ + "/small/" + model + ".prm",
+        run_including("run", small_case(model),
                       "subsection particles\n  set sample file = " +
                           (sample(sample_of_.at(model)) / "sample.h5").string() +
                           "\nend\nsubsection output\n  set plot = " + (plot ? "true" : "false") +
