@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "cases/app/stop_signal.h"
 #include "cases/parameters/case_parameters.h"
 #include "cases/parameters/sample_parameters.h"
 #include "cases/runs/dem_run.h"
@@ -88,6 +89,9 @@ void require_one_process(const std::string& what) {
 // takes part in every exchange the first announces, until the run ends.
 int serve_subgrade(const trackbed::cases::CaseParameters& prm) {
   if (prm.sample_file.empty()) return 2;  // the first process says why
+  // Ctrl-C or SIGTERM reaches every process of the launch; the first stops the run (with a
+  // checkpoint, which needs the others), so they do not stop on their own.
+  trackbed::cases::catch_stop_signals();
   const trackbed::dem::Sample sample = trackbed::dem::read_sample(prm.sample_file);
   trackbed::cases::SubgradeCoupling subgrade(prm, trackbed::dem::section_of(sample));
   subgrade.serve();

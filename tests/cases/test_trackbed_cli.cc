@@ -150,6 +150,24 @@ TEST_F(Cli, BadPushTest) {
                                           "each point differs from the one before"});
 }
 
+// A coupled run's bad input: one line naming the parameter and what is valid, nothing written.
+TEST_F(Cli, BadCoupledRun) {
+  const fs::path a = write("a.prm", small_case());
+  expect_error(run("run " + a.string() + " --mode coupled"),
+               {"mode = coupled needs particles/sample file", "valid:"});
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+  const fs::path b = write("b.prm", small_case("subsection coupling\n  set relaxation = 0\nend\n"));
+  expect_error(run("run " + b.string()), {"relaxation = 0", "valid: (0, 1]"});
+  const fs::path c = write("c.prm", small_case("subsection coupling\n  set interval = 0\nend\n"));
+  expect_error(run("run " + c.string()), {"interval", "0"});
+  const fs::path d = write("d.prm", small_case("subsection fem\n  subsection layers\n"
+                                               "    set ground depth = 0\n  end\nend\n"));
+  expect_error(run("run " + d.string()), {"fem/layers/ground depth = 0", "valid: > 0"});
+  const fs::path e = write("e.prm", small_case("subsection fem\n  subsection subgrade\n"
+                                               "    set poisson ratio = 0.5\n  end\nend\n"));
+  expect_error(run("run " + e.string()), {"fem/subgrade", "Poisson ratio = 0.5", "-1 < nu < 0.5"});
+}
+
 TEST_F(Cli, GoodRunWritesResultsAndIsReproducible) {
   const fs::path f = write("case.prm", small_case());
   const Result a = run("run " + f.string() + " --threads 2");
