@@ -38,7 +38,14 @@ class DemRun {
   int resume(RunCheckpoint checkpoint);
 
  private:
+  // The model (dem_run_model.cc): the case's materials, bodies, walls and meshes, the sample's.
   void build_model();
+  dem::MaterialTable make_materials() const;
+  // The sample's bodies (if any), the particle file's and the generator's.
+  dem::Particles make_particles(const dem::Sample* sample, const dem::MaterialTable& materials);
+  // The sample's plane walls the run keeps, then the case's.
+  void add_planes(const dem::Sample* sample);
+  void add_mesh(const MeshParameters& m, const dem::Sample* sample);
   // mode = coupled: the subgrade under the sample's section (first, so that the MPI processes
   // that serve it build it with this one); its formation replaces the sample's base plane.
   void make_subgrade(const dem::Sample& sample);
