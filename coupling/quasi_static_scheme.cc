@@ -141,10 +141,10 @@ ExchangeReport QuasiStaticScheme::exchange() {
   std::vector<dem::Vec3> fe_u, fe_v, r(u_.size());
   wall_.vertex_motion(fe_u, fe_v);
   for (std::size_t i = 0; i < u_.size(); ++i) r[i] = fe_u[i] - u_[i];
-  report.load_work = report.ramp * dot(loads_, fe_u);
+  const double work = dot(loads_, fe_u);  // F . u~: the unramped load's work
+  report.load_work = report.ramp * work;
   report.relaxation = next_relaxation(r);
   report.residual = rms(r);
-  const double work = dot(loads_, fe_u);
   report.work_residual = work != 0 ? std::abs(dot(loads_, r) / work) : 0.0;
   std::vector<dem::Vec3> at(u_.size()), velocity(u_.size());
   for (std::size_t i = 0; i < u_.size(); ++i) {

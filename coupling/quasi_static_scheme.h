@@ -81,6 +81,7 @@ class QuasiStaticScheme {
   const std::vector<dem::Vec3>& interface_displacement() const { return u_; }
   // The last exchange converged (false before the first).
   bool converged() const { return converged_; }
+  int exchanges() const { return exchanges_; }
   QuasiStaticState state() const;
   // Continues from state() of the same scheme (the DEM's wall vertices come with its own state).
   // Throws InputError for a state of another interface.

@@ -28,7 +28,7 @@
 #include "common/input_error.h"
 #include "dem/io/sample.h"
 #include "dem/samples/section_model.h"
-#include "fem/mpi_session.h"
+#include "fem/mpi_runtime.h"
 
 namespace {
 
@@ -258,9 +258,9 @@ int run(const std::vector<std::string>& args, const StartMpi& start_mpi) {
 int main(int argc, char** argv) {
   const std::vector<std::string> args(argv + 1, argv + argc);
   // Declared before every run so that it outlives them: MPI ends after the last collective call.
-  std::unique_ptr<trackbed::fem::MpiSession> mpi;
+  std::unique_ptr<trackbed::fem::MpiRuntime> mpi;
   const StartMpi start_mpi = [&] {
-    if (!mpi) mpi = std::make_unique<trackbed::fem::MpiSession>(argc, argv);
+    if (!mpi) mpi = std::make_unique<trackbed::fem::MpiRuntime>(argc, argv);
     int rank = 0;
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     return rank;

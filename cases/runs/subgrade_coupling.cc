@@ -289,14 +289,13 @@ void SubgradeCoupling::restore(const Progress& progress) {
 }
 
 std::vector<SummaryItem> SubgradeCoupling::summary() const {
-  const coupling::QuasiStaticState s = scheme_->state();
   return {
       {"fe_cells", "FE cells", "", double(subgrade_->body().n_cells())},
       {"fe_dofs", "FE degrees of freedom", "", double(subgrade_->body().n_dofs())},
       {"formation_vertices", "formation wall vertices", "", double(vertex_area_.size())},
-      {"fe_solves", "FE solves (exchanges)", "", double(s.exchanges)},
+      {"fe_solves", "FE solves (exchanges)", "", double(scheme_->exchanges())},
       {"coupling_converged", "coupling converged at the last exchange (1 yes)", "",
-       s.converged ? 1.0 : 0.0},
+       scheme_->converged() ? 1.0 : 0.0},
       {"fe_coupling_seconds", "FE solves and coupling maps", "s", fe_seconds_},
       {"formation_settlement_mean_m", "mean formation settlement", "m",
        mean_formation_settlement()},
