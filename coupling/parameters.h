@@ -19,6 +19,16 @@ struct QuasiStaticParameters {
   void validate() const;
 };
 
+// The dynamic staggered scheme (dynamic_scheme.h).
+struct DynamicParameters {
+  int interval_steps = 10;        // DEM steps per FE (Newmark) step, >= 1
+  int ramp_exchanges = 1;         // the load reaches its full value at this exchange, >= 1
+  double rayleigh_mass = 0;       // alpha of the FE body's damping C = alpha M + beta K, 1/s
+  double rayleigh_stiffness = 0;  // beta, s
+  // Throws InputError naming the parameter for a value outside its range.
+  void validate() const;
+};
+
 // The elastic subgrade under the ballast (subgrade.h).
 struct SubgradeParameters {
   // The continuum layers: only the continuum fields of this section are used (lower ballast and

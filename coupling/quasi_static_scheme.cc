@@ -10,22 +10,11 @@
 
 #include "common/input_error.h"
 #include "common/number_text.h"
+#include "coupling/load_transfer.h"
 
 namespace trackbed::coupling {
 
 namespace {
-
-double rms(const std::vector<dem::Vec3>& v) {
-  double sum = 0;
-  for (const dem::Vec3& x : v) sum += x.squaredNorm();
-  return v.empty() ? 0.0 : std::sqrt(sum / v.size());
-}
-
-double dot(const std::vector<dem::Vec3>& a, const std::vector<dem::Vec3>& b) {
-  double sum = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) sum += a[i].dot(b[i]);
-  return sum;
-}
 
 // The smallest Aitken factor, as a fraction of the first: the secant reads the scatter of a bed's
 // load from one interval to the next as a change of the fixed point and can drive the factor to
@@ -52,11 +41,7 @@ void QuasiStaticParameters::validate() const {
 QuasiStaticScheme::QuasiStaticScheme(dem::Simulation& sim, int mesh, fem::ElasticBody& body,
                                      InterfaceWall& wall, const QuasiStaticParameters& parameters)
     : sim_(&sim), mesh_(mesh), body_(body), wall_(wall), parameters_(parameters) {
-  if (mesh < 0 || mesh >= static_cast<int>(sim.meshes().size()) || !sim.meshes()[mesh].deformable ||
-      sim.meshes()[mesh].world.vertices.size() != wall.num_vertices())
-    throw std::invalid_argument(
-        "QuasiStaticScheme: mesh " + std::to_string(mesh) +
-        " is not the deformable mesh of the interface wall (same vertices, same order)");
+  check_interface_mesh(sim, mesh, wall, "QuasiStaticScheme");
   start(sim.time_step());
 }
 
@@ -114,10 +99,7 @@ ExchangeReport QuasiStaticScheme::exchange() {
   const auto start = std::chrono::steady_clock::now();
 
   // DEM -> FE: the mean vertex loads (from the DEM's process to all), ramped.
-  if (sim_) loads_ = sim_->meshes()[mesh_].deformation.take_mean_load();
-  static_assert(sizeof(dem::Vec3) == 3 * sizeof(double), "Vec3 is three packed doubles");
-  MPI_Bcast(loads_.data(), static_cast<int>(3 * loads_.size()), MPI_DOUBLE, 0,
-            wall_.communicator());
+  take_mean_loads(sim_, mesh_, wall_, loads_);
   report.ramp = std::min(1.0, static_cast<double>(exchanges_) / parameters_.ramp_exchanges);
   report.dem_load = dem::Vec3::Zero();
   std::vector<dem::Vec3> loads = loads_;
@@ -125,16 +107,9 @@ ExchangeReport QuasiStaticScheme::exchange() {
     report.dem_load += f;
     f *= report.ramp;
   }
-  wall_.apply_vertex_loads(loads);
-  const fem::LoadResultant resultant = body_.interface_load_resultant({{0, 0, 0}});
-  report.fe_load = dem::Vec3(resultant.force[0], resultant.force[1], resultant.force[2]);
-  const dem::Vec3 expected = report.ramp * report.dem_load;
-  report.balance_error = expected.norm() > 0 ? (report.fe_load - expected).norm() / expected.norm()
-                                             : report.fe_load.norm();
-  if (!(report.balance_error <= 1e-10))
-    throw std::runtime_error("coupling: exchange " + std::to_string(report.exchange) +
-                             ": the FE load differs from the DEM's by " +
-                             number_text(report.balance_error) + " of it (limit 1e-10)");
+  const AppliedLoad applied = apply_loads(wall_, body_, loads, report.exchange);
+  report.fe_load = applied.fe_load;
+  report.balance_error = applied.balance_error;
   report.fe_iterations = body_.solve_static().iterations;
 
   // FE -> DEM: the relaxed interface displacement, reached over the next interval.

@@ -15,15 +15,18 @@ namespace trackbed::coupling::testing {
 constexpr double kSide = 0.2, kHeight = 0.2;  // m
 inline const fem::Material kSoil{"soil", 1e8, 0.3, 1900};
 
-// `cells` coarse cells per direction, refined `refinements` times; set up with `solver`.
+// `cells` coarse cells per direction, refined `refinements` times; set up with `solver`. Another
+// `height` and `material` make a slab of the same plan and boundary conditions.
 inline std::unique_ptr<fem::ElasticBody> elastic_box(MPI_Comm communicator,
                                                      const std::array<unsigned int, 3>& cells,
                                                      unsigned int refinements,
-                                                     const fem::SolverParameters& solver) {
+                                                     const fem::SolverParameters& solver,
+                                                     double height = kHeight,
+                                                     const fem::Material& material = kSoil) {
   auto body = std::make_unique<fem::ElasticBody>(1, communicator);
-  body->make_box({{{0, 0, -kHeight}}, {{kSide, kSide, 0}}, cells, {}});
+  body->make_box({{{0, 0, -height}}, {{kSide, kSide, 0}}, cells, {}});
   if (refinements > 0) body->refine_globally(refinements);
-  body->set_material(0, kSoil);
+  body->set_material(0, material);
   body->set_gravity({{0, 0, 0}});
   body->fix(body->boundary_id("zmin"));
   for (const char* side : {"xmin", "xmax"})
