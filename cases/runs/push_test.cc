@@ -236,14 +236,6 @@ std::vector<SummaryItem> PushTest::summary() const {
     resistance += r.resistance;
     unbalance += r.unbalance;
   }
-  // Shares at the peak, from the parts' forces averaged over the same window.
-  std::vector<double> part(parts_.size(), 0.0);
-  double total = 0;
-  const auto [peak_first, peak_last] = window(peak);
-  for (std::size_t j = peak_first; j < peak_last; ++j) {
-    total += rows_[j].resistance;
-    for (std::size_t k = 0; k < part.size(); ++k) part[k] += rows_[j].part_resistance[k];
-  }
   const std::string mm = std::to_string(std::lround(prm_.report_at * 1e3));
   // A push along x or y meets the bed's lateral resistance; one along z (the ballast box) its
   // vertical resistance.
@@ -288,6 +280,21 @@ std::vector<SummaryItem> PushTest::summary() const {
        kind + " force reaching the walls at " + mm + " mm", "N",
        vertical ? NAN : interpolated_at(to_walls, prm_.report_at)},
   };
+  const std::vector<SummaryItem> parts = part_items(peak);
+  items.insert(items.end(), parts.begin(), parts.end());
+  return items;
+}
+
+std::vector<SummaryItem> PushTest::part_items(std::size_t peak) const {
+  // Shares at the peak, from the parts' forces averaged over the window of the peak's value.
+  std::vector<double> part(parts_.size(), 0.0);
+  double total = 0;
+  const auto [first, last] = window(peak);
+  for (std::size_t j = first; j < last; ++j) {
+    total += rows_[j].resistance;
+    for (std::size_t k = 0; k < part.size(); ++k) part[k] += rows_[j].part_resistance[k];
+  }
+  std::vector<SummaryItem> items;
   for (std::size_t k = 0; k < parts_.size(); ++k)
     items.push_back({"share_" + parts_[k], "share of " + parts_[k] + " at the peak", "",
                      total != 0 ? part[k] / total : NAN});

@@ -115,6 +115,9 @@ class PushTest {
   std::vector<double> smoothed(Value value) const;
   // A curve over the rows interpolated at displacement d (NaN if the push did not get there).
   double interpolated_at(const std::vector<double>& curve, double d) const;
+  // The summary items of the parts: each part's share of the resistance averaged over the window
+  // of row `peak`, and its support at the push start (when recorded).
+  std::vector<SummaryItem> part_items(std::size_t peak) const;
 
   PushTestParameters prm_;
   int mesh_ = 0;
