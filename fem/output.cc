@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "common/durable_rename.h"
 #include "fem/elastic_body_impl.h"
 #include "fem/errors.h"
 
@@ -67,10 +68,10 @@ class StressPostprocessor : public DataPostprocessor<dim> {
   const std::map<unsigned int, Material>& materials_;
 };
 
-// Files are written under a temporary name and renamed, so an interrupted write never leaves a
-// truncated file under the final name.
+// Files are written under a temporary name and renamed durably, so an interrupted write (or a
+// power cut) never leaves a truncated file under the final name.
 void commit(const std::string& temporary, const std::string& final_name) {
-  if (std::rename(temporary.c_str(), final_name.c_str()) != 0)
+  if (!durable_rename(temporary, final_name))
     throw InputError(final_name +
                      ": cannot write the output file; check that its directory "
                      "exists and is writable");

@@ -117,6 +117,7 @@ std::string parse_options(const std::vector<std::string>& args, bool with_mode, 
       }
       if (threads < 0) return "--threads " + v + ": valid: an integer >= 0 (0: OMP_NUM_THREADS)";
     } else if (a == "--output") {
+      if (v.empty()) return "--output '': valid: a folder name";
       output = v;
     } else {
       return "unknown option '" + a +

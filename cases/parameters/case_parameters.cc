@@ -99,6 +99,9 @@ void declare_simulation(ParameterHandler& prm) {
   prm.declare_entry("verlet skin", "0.004", Double(0, 10), "Verlet skin of the neighbour list, m");
   prm.declare_entry("track energy", "true", Bool(),
                     "Tally dissipation and work every step for the energy balance");
+  prm.declare_entry("energy error limit", "0.1", Double(1e-6, 1),
+                    "The run stops as blown up when its energy balance error exceeds this (without "
+                    "'track energy', when energy appears that no work put in)");
   prm.declare_entry("seed", "1", Integer(0), "Seed of the random generators");
   prm.leave_subsection();
 }
@@ -115,6 +118,7 @@ void parse_simulation(ParameterHandler& prm, const ParameterSource&, CaseParamet
   c.threads = prm.get_integer("threads");
   c.skin = prm.get_double("verlet skin");
   c.track_energy = prm.get_bool("track energy");
+  c.energy_error_limit = prm.get_double("energy error limit");
   c.seed = prm.get_integer("seed");
   prm.leave_subsection();
 }
@@ -425,9 +429,11 @@ void declare_output(ParameterHandler& prm) {
   prm.leave_subsection();
 }
 
-void parse_output(ParameterHandler& prm, const ParameterSource&, CaseParameters& c) {
+void parse_output(ParameterHandler& prm, const ParameterSource& in, CaseParameters& c) {
   prm.enter_subsection("output");
   c.output_folder = prm.get("folder");
+  if (c.output_folder.empty())
+    throw InputError(in.path + ": output/folder is empty; valid: a folder name");
   c.history_interval = prm.get_double("history interval");
   c.vtu_interval = prm.get_double("vtu interval");
   c.snapshot_interval = prm.get_double("snapshot interval");

@@ -63,6 +63,7 @@ struct CaseParameters {
   int threads = 0;
   double skin = 0.004;
   bool track_energy = true;
+  double energy_error_limit = 0.1;  // the run stops as blown up above this balance error
   std::uint64_t seed = 1;
   dem::Vec3 gravity = dem::Vec3(0, 0, -9.81);
   // model

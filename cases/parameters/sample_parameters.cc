@@ -315,9 +315,11 @@ void declare_output(ParameterHandler& prm, const dem::SampleBuildSettings&) {
   prm.leave_subsection();
 }
 
-void parse_output(ParameterHandler& prm, const ParameterSource&, SampleParameters& p) {
+void parse_output(ParameterHandler& prm, const ParameterSource& in, SampleParameters& p) {
   prm.enter_subsection("output");
   p.output_folder = prm.get("folder");
+  if (p.output_folder.empty())
+    throw InputError(in.path + ": output/folder is empty; valid: a folder name");
   p.progress_interval = prm.get_double("progress interval");
   p.checkpoint_interval = prm.get_double("checkpoint interval");
   p.vtu = prm.get_bool("vtu");

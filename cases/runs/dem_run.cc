@@ -108,14 +108,10 @@ void DemRun::write_history() {
 
   if (prm_.track_energy) {
     const dem::EnergyBudget e = sim_->energy();
-    // Relative to the largest energy term seen, so a resting model does not divide by ~0.
-    const double scale =
-        std::max({std::abs(e.kinetic) + e.strain, e.dissipated(), std::abs(e.gravity_work),
-                  std::abs(e.wall_work), initial_energy_.kinetic + initial_energy_.strain, 1e-300});
     series_->energy->stream() << t << "," << e.kinetic << "," << e.strain << "," << e.friction
                               << "," << e.rolling << "," << e.dashpot << "," << e.local_damping
                               << "," << e.gravity_work << "," << e.wall_work << ","
-                              << (e.total() - initial_energy_.total()) / scale << "\n";
+                              << e.balance_error(initial_energy_) << "\n";
   }
   const auto& p = sim_->particles();
   for (const int b : tracked_) {
@@ -383,6 +379,7 @@ void DemRun::advance() {
     if (prm_.history_interval > 0 && t >= next_history_) {
       write_history();
       next_history_ += prm_.history_interval;
+      check_health();
     }
     if (t >= next_frame_) {
       write_frame();
@@ -394,19 +391,26 @@ void DemRun::advance() {
     }
     if (std::chrono::duration<double>(Clock::now() - last_progress_).count() >=
         prm_.progress_interval) {
-      sim_->check_finite();
+      check_health();
       if (push_) total_steps_ = std::lround(push_->expected_end(*sim_) / dt);
       report_progress(false);
     }
     if (prm_.checkpoint_interval > 0 &&
         std::chrono::duration<double>(Clock::now() - last_checkpoint_).count() >=
-            prm_.checkpoint_interval)
+            prm_.checkpoint_interval) {
+      check_health();  // a checkpoint is always of a sound state: the one a failed run keeps
       write_checkpoint();
+    }
     if (sim_->step_count() == test_signal_.first) std::raise(test_signal_.second);
   }
   loop_seconds_ =
       earlier_loop_seconds_ + std::chrono::duration<double>(Clock::now() - loop_start_).count();
+  check_health();
+}
+
+void DemRun::check_health() const {
   sim_->check_finite();
+  sim_->check_energy(initial_energy_);
 }
 
 void DemRun::finish(const std::string& status) {
@@ -416,11 +420,11 @@ void DemRun::finish(const std::string& status) {
         earlier_loop_seconds_ + std::chrono::duration<double>(Clock::now() - loop_start_).count();
   report_progress(true);
   write_history();
-  if (finished || status == "interrupted") {
-    // A blown-up state (NaN) is not worth a frame or a snapshot.
-    write_frame();
-    write_snapshot();
-  }
+  // A blown-up state (NaN) is not worth a frame or a snapshot. An interrupted run's last frame
+  // goes when it is resumed (a frame after its checkpoint); its state is in the checkpoint, and
+  // a snapshot would stay behind as a file the uninterrupted run does not have.
+  if (finished || status == "interrupted") write_frame();
+  if (finished) write_snapshot();
   series_->walls->commit();
   series_->energy->commit();
   series_->bodies->commit();

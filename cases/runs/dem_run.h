@@ -76,6 +76,8 @@ class DemRun {
   void write_snapshot();
   void report_progress(bool last);
   void advance();  // the time loop with its outputs
+  // Stops a run that has blown up (non-finite state, energy from nowhere): throws with the reason.
+  void check_health() const;
   void finish(const std::string& status);
   void write_summary(const std::string& status);
   void make_plot();

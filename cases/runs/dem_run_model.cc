@@ -54,6 +54,7 @@ void DemRun::build_model() {
   settings.gravity = prm_.gravity;
   settings.skin = prm_.skin;
   settings.track_energy = prm_.track_energy;
+  settings.max_energy_error = prm_.energy_error_limit;
   sim_ = std::make_unique<dem::Simulation>(std::move(materials), std::move(particles), settings);
 
   add_planes(from);

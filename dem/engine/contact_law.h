@@ -43,12 +43,19 @@ inline void rotate_into_plane(Vec3& h, const Vec3& n) {
   if (after > 0) h *= std::sqrt(before / after);
 }
 
-// Normal part: F_n = k_n * overlap - c_n * v_n, never tensile. c_n is either the LAMMPS form
-// gamma_n * m_eff or the critical-ratio form 2 beta_n sqrt(m_eff k_n).
+// The dashpot coefficients, N s/m: c_n is the LAMMPS form gamma_n m_eff plus the critical-ratio
+// form 2 beta_n sqrt(m_eff k_n); c_s = 2 beta_s sqrt(m_eff k_s). The critical time step sums them
+// per body like the stiffnesses (docs/theory.md, "Critical timestep").
+inline double normal_dashpot(const ContactProperties& p, double m_eff) {
+  return p.normal_damping_rate * m_eff + 2 * p.normal_damping_ratio * std::sqrt(m_eff * p.kn);
+}
+inline double shear_dashpot(const ContactProperties& p, double m_eff) {
+  return p.shear_damping_ratio > 0 ? 2 * p.shear_damping_ratio * std::sqrt(m_eff * p.ks) : 0.0;
+}
+
+// Normal part: F_n = k_n * overlap - c_n * v_n, never tensile.
 inline double normal_force(const ContactProperties& p, const ContactKinematics& k, double vn) {
-  const double c =
-      p.normal_damping_rate * k.m_eff + 2 * p.normal_damping_ratio * std::sqrt(k.m_eff * p.kn);
-  return std::max(p.kn * k.overlap - c * vn, 0.0);
+  return std::max(p.kn * k.overlap - normal_dashpot(p, k.m_eff) * vn, 0.0);
 }
 
 // Incremental spring with a Coulomb (or rolling) cap: s <- s - k * increment, |s| <= limit.
@@ -85,11 +92,8 @@ inline Vec3 linear_contact(const ContactProperties& p, const ContactKinematics& 
   bool slipping;
   const double slip_work = capped_spring<Energy>(shear, p.ks, vt * dt, p.mu * fn_linear, slipping);
   Vec3 force = fn * k.n + shear;
-  double cs = 0;
-  if (p.shear_damping_ratio > 0) {
-    cs = 2 * p.shear_damping_ratio * std::sqrt(k.m_eff * p.ks);
-    force -= cs * vt;
-  }
+  const double cs = shear_dashpot(p, k.m_eff);
+  if (cs > 0) force -= cs * vt;
   if constexpr (Energy) {
     d.friction += slip_work;
     d.dashpot += -(fn - fn_linear) * vn * dt + cs * vt.squaredNorm() * dt;

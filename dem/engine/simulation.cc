@@ -26,6 +26,7 @@ Simulation::Simulation(MaterialTable materials, Particles particles, SimulationS
   check_range("simulation: time step", settings_.time_step, 0.0, 1.0);
   check_range("simulation: critical timestep fraction", settings_.critical_fraction, 1e-6, 1.0);
   check_range("simulation: verlet skin", settings_.skin, 0.0, 1e3);
+  check_range("simulation: energy error limit", settings_.max_energy_error, 1e-6, 1.0);
 }
 
 Simulation::~Simulation() = default;

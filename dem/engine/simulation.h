@@ -38,6 +38,7 @@ struct SimulationSettings {
   double skin = 0.004;             // Verlet skin, m
   bool track_energy = true;        // tally dissipation every step (costs ~10 % of a step)
   double max_overlap_ratio = 0.5;  // runaway: overlap above this fraction of the smaller radius
+  double max_energy_error = 0.1;   // blow-up: energy balance error above this (check_energy)
   double initial_overlap_ratio = 0.05;  // setup: tolerated overlap as a fraction of the radius
   bool allow_supercritical_step = false;
   bool spatial_sort = true;  // reorder bodies along a Morton curve at setup (cache locality)
@@ -56,6 +57,9 @@ struct EnergyBudget {
   double gravity_work = 0, wall_work = 0;
   double dissipated() const { return friction + rolling + dashpot + local_damping; }
   double total() const { return kinetic + strain + dissipated() - gravity_work - wall_work; }
+  // The change of total() since `initial` over the largest term, max(|E_k| + E_s, D, |W_g|,
+  // |W_w|, initial E_k + E_s): a relative error that a model at rest does not divide by ~0.
+  double balance_error(const EnergyBudget& initial) const;
 };
 
 // One active contact, for output (force chains) and statistics.
@@ -153,8 +157,16 @@ class Simulation {
   // |weight|). 0 for a model in exact static equilibrium; of order 1 in free flight. Bodies with
   // no contact and no weight count as balanced.
   double unbalanced_force_ratio() const;
-  // Checks the state for NaN; throws a std::runtime_error naming the first bad body.
+  // Checks the state for NaN; throws a std::runtime_error naming the first bad body. Every step
+  // calls it when a body's velocity has become non-finite.
   void check_finite() const;
+  // Stops a model that has blown up: throws std::runtime_error, one line naming the step and the
+  // fastest body, when the energy balance since `initial` (EnergyBudget::balance_error) has risen
+  // above settings().max_energy_error: energy that no work put in. Only a rise counts: the
+  // balance falls where dissipation is not tallied (without energy tracking) and, by the
+  // leapfrog's half-step velocities, in free fall (-1/(n+1) after n steps from rest)
+  // (docs/theory.md, "Runaway detection"). Costs one pass over the contacts (energy()).
+  void check_energy(const EnergyBudget& initial) const;
 
   // Sets the clock (a snapshot being read back; contact springs are not part of a snapshot).
   void set_time(double t, long steps) { time_ = t, steps_ = steps; }

@@ -38,20 +38,41 @@ double Simulation::scale_density_for_step(double dt, double fraction, bool withi
   return largest;
 }
 
+namespace {
+
+// Half the stability limit of one degree of freedom of mass m on a spring k with a dashpot c,
+// its velocity lagging half a step as the leapfrog update has it: the limit is
+// 2 (sqrt(1 + zeta^2) - zeta) sqrt(m / k), zeta = c / (2 sqrt(m k)) (docs/theory.md, "Critical
+// timestep"); undamped, sqrt(m / k).
+double damped_half_limit(double m, double k, double c) {
+  if (!(k > 0)) return std::numeric_limits<double>::infinity();
+  const double zeta = c / (2 * std::sqrt(m * k));
+  return (std::sqrt(1 + zeta * zeta) - zeta) * std::sqrt(m / k);
+}
+
+}  // namespace
+
 std::vector<double> Simulation::body_critical_steps(bool within_skin) const {
   // Stiffness per body and DOF, summed over its contacts with K = k_n n n^T + k_s (I - n n^T):
   // translation along e_a: e_a^T K e_a; rotation about e_a: u^T K u with u = e_a x lever (the
   // contact point's displacement per unit rotation), plus the rolling stiffness k_s R_eff^2.
-  // PFC takes sqrt(m / k) and sqrt(I / k_rot), the smallest over bodies and DOFs.
+  // The dashpots, C = c_n n n^T + c_s (I - n n^T), are summed the same way (rolling has none).
+  // PFC takes sqrt(m / k) and sqrt(I / k_rot), the smallest over bodies and DOFs; the dashpots
+  // shorten each by the factor sqrt(1 + zeta^2) - zeta.
   const int nb = p_.num_bodies();
   std::vector<Vec3> kt(nb, Vec3::Zero()), kr(nb, Vec3::Zero());
-  auto add = [&](int b, const ContactProperties& pr, const Vec3& n, const Vec3& lever, double r) {
+  std::vector<Vec3> ct(nb, Vec3::Zero()), cr(nb, Vec3::Zero());
+  auto add = [&](int b, const ContactProperties& pr, double m_eff, const Vec3& n, const Vec3& lever,
+                 double r) {
+    const double cn = normal_dashpot(pr, m_eff), cs = shear_dashpot(pr, m_eff);
     for (int a = 0; a < 3; ++a) {
       kt[b][a] += pr.kn * n[a] * n[a] + pr.ks * (1 - n[a] * n[a]);
+      ct[b][a] += cn * n[a] * n[a] + cs * (1 - n[a] * n[a]);
       const Vec3 u = Vec3::Unit(a).cross(lever);
       const double un = u.dot(n);
       kr[b][a] += pr.kn * un * un + pr.ks * (u.squaredNorm() - un * un) +
                   (pr.has_rolling() ? pr.ks * r * r : 0.0);
+      cr[b][a] += cn * un * un + cs * (u.squaredNorm() - un * un);
     }
   };
   // Whether a body touches anything now: one that does not gets the free-body contact below, in
@@ -64,38 +85,51 @@ std::vector<double> Simulation::body_critical_steps(bool within_skin) const {
       const Vec3 d = p_.pos[j] - p_.pos[i];
       const bool touching = d.norm() < p_.radius[i] + p_.radius[j];
       if (!touching && !within_skin) continue;
-      if (touching) touches[p_.body[i]] = touches[p_.body[j]] = 1;
+      const int bi = p_.body[i], bj = p_.body[j];
+      if (touching) touches[bi] = touches[bj] = 1;
       const Vec3 n = d.normalized();
       const ContactProperties& pr = materials_.pair(p_.material[i], p_.material[j]);
       const double reff = p_.radius[i] * p_.radius[j] / (p_.radius[i] + p_.radius[j]);
-      add(p_.body[i], pr, n, p_.pos[i] + n * p_.radius[i] - p_.x[p_.body[i]], reff);
-      add(p_.body[j], pr, n, p_.pos[j] - n * p_.radius[j] - p_.x[p_.body[j]], reff);
+      const double m_eff = p_.mass[bi] * p_.mass[bj] / (p_.mass[bi] + p_.mass[bj]);
+      add(bi, pr, m_eff, n, p_.pos[i] + n * p_.radius[i] - p_.x[bi], reff);
+      add(bj, pr, m_eff, n, p_.pos[j] - n * p_.radius[j] - p_.x[bj], reff);
     }
   for (std::size_t w = 0; w < planes_.size(); ++w)
     for (int e : plane_history_[w].element) {
       if (planes_[w].distance(p_.pos[e]) >= p_.radius[e]) continue;
       const ContactProperties& pr = materials_.pair(planes_[w].material, p_.material[e]);
-      touches[p_.body[e]] = 1;
-      add(p_.body[e], pr, planes_[w].normal,
-          p_.pos[e] - planes_[w].normal * p_.radius[e] - p_.x[p_.body[e]], p_.radius[e]);
+      const int b = p_.body[e];
+      touches[b] = 1;
+      add(b, pr, p_.mass[b], planes_[w].normal,
+          p_.pos[e] - planes_[w].normal * p_.radius[e] - p_.x[b], p_.radius[e]);
     }
   visit_mesh_contacts([&](int m, int, int e, const MeshContactPoint& pt, int) {
-    touches[p_.body[e]] = 1;
-    add(p_.body[e], materials_.pair(meshes_[m].material, p_.material[e]), pt.normal,
-        pt.point - p_.x[p_.body[e]], p_.radius[e]);
+    const int b = p_.body[e];
+    touches[b] = 1;
+    add(b, materials_.pair(meshes_[m].material, p_.material[e]), p_.mass[b], pt.normal,
+        pt.point - p_.x[b], p_.radius[e]);
   });
   std::vector<double> steps(nb);
   for (int b = 0; b < nb; ++b) {
     if (!touches[b]) {
-      // A body touching nothing yet: one contact with its own material, its first touch.
+      // A body touching nothing yet: one contact with its own material, its first touch (with
+      // the dashpots of a touch on a wall, m_eff = m: the largest).
       const int e = p_.first_element[b];
       const ContactProperties& pr = materials_.pair(p_.material[e], p_.material[e]);
+      const double lever2 = std::pow((p_.pos[e] - p_.x[b]).norm() + p_.radius[e], 2);
+      const double cn = normal_dashpot(pr, p_.mass[b]), cs = shear_dashpot(pr, p_.mass[b]);
       kt[b].array() += std::max(pr.kn, pr.ks);
-      kr[b].array() += pr.ks * std::pow((p_.pos[e] - p_.x[b]).norm() + p_.radius[e], 2);
+      ct[b].array() += pr.kn >= pr.ks ? cn : cs;
+      kr[b].array() += pr.ks * lever2;
+      cr[b].array() += cs * lever2;
     }
-    steps[b] = std::sqrt(p_.mass[b] / kt[b].maxCoeff());
-    if (kr[b].maxCoeff() > 0)
-      steps[b] = std::min(steps[b], std::sqrt(p_.inertia[b].minCoeff() / kr[b].maxCoeff()));
+    const double inertia = p_.inertia[b].minCoeff();
+    double step = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 3; ++a) {
+      step = std::min(step, damped_half_limit(p_.mass[b], kt[b][a], ct[b][a]));
+      step = std::min(step, damped_half_limit(inertia, kr[b][a], cr[b][a]));
+    }
+    steps[b] = step;
   }
   return steps;
 }
@@ -242,6 +276,31 @@ double Simulation::unbalanced_force_ratio() const {
     total += applied[b] + weight.norm();
   }
   return total > 0 ? unbalanced / total : 0.0;
+}
+
+double EnergyBudget::balance_error(const EnergyBudget& initial) const {
+  const double scale = std::max({std::abs(kinetic) + strain, dissipated(), std::abs(gravity_work),
+                                 std::abs(wall_work), initial.kinetic + initial.strain, 1e-300});
+  return (total() - initial.total()) / scale;
+}
+
+void Simulation::check_energy(const EnergyBudget& initial) const {
+  const double error = energy().balance_error(initial);
+  const double limit = settings_.max_energy_error;
+  if (error <= limit) return;
+  int worst = 0;
+  double largest = -1;
+  for (int b = 0; b < p_.num_bodies(); ++b) {
+    const double e = p_.mass[b] * p_.v[b].squaredNorm();
+    if (e > largest) largest = e, worst = b;
+  }
+  std::ostringstream s;
+  s << "the model blew up at t = " << time_ << " s (step " << steps_
+    << "): energy from nowhere, its energy balance off by " << error
+    << " of its largest term (limit " << limit << "), particle " << p_.id[worst]
+    << " the fastest at " << p_.v[worst].norm() << " m/s: reduce the time step (critical "
+    << critical_timestep() << " s)";
+  throw std::runtime_error(s.str());
 }
 
 void Simulation::check_finite() const {

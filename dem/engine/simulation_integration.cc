@@ -29,14 +29,14 @@ bool Simulation::integrate_bodies() {
   // Per-thread partial sums added in thread order: the tallies are reproducible bit for bit.
   // Each thread sums in registers and stores once (neighbouring slots share a cache line).
   std::vector<double> local(nthreads, 0.0), gravity_work(nthreads, 0.0);
-  std::vector<int> moved_by(nthreads, 0);
+  std::vector<int> moved_by(nthreads, 0), blown_up(nthreads, 0);
   // One region for the bodies' motion, their elements' positions and the Verlet check of those
   // elements (body by body: each touches only its own elements).
 #pragma omp parallel if (parallel_)
   {
     const int t = omp_get_thread_num();
     double my_local = 0, my_gravity_work = 0;
-    int my_moved = 0;
+    int my_moved = 0, my_blown_up = 0;
     for (int b = body_ranges_[t]; b < body_ranges_[t + 1]; ++b) {
       const double m = p_.mass[b];
       const double scale = inertia_scale(b);  // density scaling: accelerated as s m, s I
@@ -68,6 +68,8 @@ bool Simulation::integrate_bodies() {
       } else {
         p_.w[b] += M * (dt / (scale * p_.inertia[b][0]));
       }
+      // A NaN or an infinity anywhere in the step ends in the velocities (inf - inf is NaN).
+      if (!std::isfinite(p_.v[b].sum() + p_.w[b].sum())) my_blown_up = 1;
       my_local -= Fd.dot(dx) + Md.dot(p_.w[b]) * dt;
       p_.update_body_elements(b);
       for (int e = p_.first_element[b]; e < p_.first_element[b + 1]; ++e)
@@ -76,12 +78,14 @@ bool Simulation::integrate_bodies() {
     local[t] = my_local;
     gravity_work[t] = my_gravity_work;
     moved_by[t] = my_moved;
+    blown_up[t] = my_blown_up;
   }
   bool moved = half <= 0;
   for (int t = 0; t < nthreads; ++t) {
     tally_.local_damping += local[t];
     tally_.gravity_work += gravity_work[t];
     moved = moved || moved_by[t];
+    if (blown_up[t]) check_finite();
   }
   return moved;
 }

@@ -1,5 +1,5 @@
-// Output written under a temporary name and renamed into place on commit(), so a reader (or a
-// crash) never sees a half-written file under the final name.
+// Output written under a temporary name and renamed into place on commit(), durably, so a reader
+// (or a crash, or a power cut) never sees a half-written file under the final name.
 #pragma once
 
 #include <cstdio>
@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/durable_rename.h"
 #include "common/input_error.h"
 
 namespace trackbed::dem {
@@ -42,7 +43,7 @@ class AtomicFile {
   }
   void commit() {
     out_.close();
-    if (!out_ || std::rename(tmp_.c_str(), path_.c_str()) != 0)
+    if (!out_ || !durable_rename(tmp_, path_))
       throw std::runtime_error(path_ + ": writing failed (disk full or folder not writable?)");
     committed_ = true;
   }

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "common/durable_rename.h"
 #include "common/input_error.h"
 
 namespace trackbed::dem::hdf5 {
@@ -37,7 +38,7 @@ void write_file(const std::string& path, const std::string& what,
     std::remove(tmp.c_str());
     throw;
   }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0)
+  if (!durable_rename(tmp, path))
     throw std::runtime_error(path + ": cannot rename the finished " + what + " into place");
 }
 

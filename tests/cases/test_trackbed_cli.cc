@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <csignal>
 #include <cstdlib>
+#include <set>
+#include <string>
 #include <vector>
 
 #include "cli_fixture.h"
@@ -103,15 +105,64 @@ TEST_F(Cli, TimestepAboveCriticalIsRefused) {
                {"time step = 0.001", "critical", "allow timestep above critical"});
 }
 
-TEST_F(Cli, RunawayOverlapStopsTheRun) {
+TEST_F(Cli, ExplodingBedStopsTheRun) {
   // Forced past the critical step the bed explodes; the run must stop with a clear line, exit 1.
+  // The energy check sees it first (at step 153 of 20,000, a history row), before any overlap
+  // passes half a radius.
   const fs::path f = write("case.prm", small_case("subsection simulation\n  set time step = 2e-4\n"
                                                   "  set allow timestep above critical = true\n"
                                                   "  set number of steps = 20000\nend\n"));
   const Result r = run("run " + f.string());
   EXPECT_EQ(r.code, 1);
-  EXPECT_NE(r.err.find("runaway overlap"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("the model blew up at t = "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("energy from nowhere"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("reduce the time step"), std::string::npos) << r.err;
+}
+
+// A blow-up below the runaway overlap: a 4 x 4 x 4 block of balls with normal and shear dashpots
+// of 0.5, in a box, at 0.96 of the critical step at its start. The side walls' contacts bring
+// the estimate below the step and the block blows up: its energy balance error, 3e-3 at step 58,
+// passes 0.1 at step 64 and is 0.64 at step 67 (at 0.48 and 0.72 of the estimate it stays below
+// 3e-3 over the same time). With a checkpoint at every step, checked before it is written, the
+// run stops as failed and keeps its last checkpoint; resumed, it fails the same way.
+TEST_F(Cli, BlowUpStopsAsFailedKeepingItsCheckpoint) {
+  std::string csv = "x,y,z,radius\n";
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 4; ++k)
+        csv += std::to_string(0.01 * (2 * i + 1)) + "," + std::to_string(0.01 * (2 * j + 1)) + "," +
+               std::to_string(0.01 * (2 * k + 1) - 1e-6 * (k + 1)) + ",0.01\n";
+  std::string walls = "subsection plane walls\n  set number of walls = 5\n";
+  const char* planes[5][2] = {{"0, 0, 0", "0, 0, 1"},
+                              {"0, 0, 0", "1, 0, 0"},
+                              {"0.08, 0, 0", "-1, 0, 0"},
+                              {"0, 0, 0", "0, 1, 0"},
+                              {"0, 0.08, 0", "0, -1, 0"}};
+  for (int w = 0; w < 5; ++w)
+    walls += "  subsection wall " + std::to_string(w) + "\n    set point = " + planes[w][0] +
+             "\n    set normal = " + planes[w][1] + "\n  end\n";
+  const fs::path f = write(
+      "case.prm",
+      "subsection simulation\n  set time step = 1.2e-5\n  set allow timestep above critical = "
+      "true\n  set number of steps = 3000\nend\n"
+      "subsection materials\n  set number of materials = 1\n  subsection material 0\n"
+      "    set normal stiffness = 2e6\n    set shear stiffness = 2e6\n"
+      "    set rolling friction = 0.3\n    set local damping = 0.7\n"
+      "    set normal damping ratio = 0.5\n    set shear damping ratio = 0.5\n  end\nend\n" +
+          walls + "end\nsubsection particles\n  set file = " + write("block.csv", csv).string() +
+          "\nend\nsubsection output\n  set folder = " + (dir_ / "out").string() +
+          "\n  set history interval = 1e-3\n  set checkpoint interval = 1e-9\nend\n");
+  const Result r = run("run " + f.string());
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("the model blew up at t = "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("energy from nowhere"), std::string::npos) << r.err;
+  EXPECT_NE(slurp(dir_ / "out" / "summary.json").find("\"status\": \"failed: the model blew up"),
+            std::string::npos);
+  EXPECT_FALSE(fs::exists(dir_ / "out" / "plot.png"));
+  ASSERT_TRUE(fs::exists(dir_ / "out" / "checkpoint.h5"));
+  const Result resumed = run("resume " + (dir_ / "out").string());
+  EXPECT_EQ(resumed.code, 1);
+  EXPECT_EQ(resumed.err, r.err);
 }
 
 TEST_F(Cli, BadDofAndMeshFile) {
@@ -151,6 +202,13 @@ TEST_F(Cli, BadPushTest) {
 }
 
 // A coupled run's bad input: one line naming the parameter and what is valid, nothing written.
+TEST_F(Cli, EmptyOutputFolderIsRefused) {
+  const fs::path f = write("case.prm", small_case());
+  expect_error(run("run " + f.string() + " --output ''"), {"--output ''", "valid: a folder"});
+  const fs::path g = write("g.prm", small_case("subsection output\n  set folder =\nend\n"));
+  expect_error(run("run " + g.string()), {"output/folder is empty", "valid: a folder"});
+}
+
 TEST_F(Cli, BadCoupledRun) {
   const fs::path a = write("a.prm", small_case());
   expect_error(run("run " + a.string() + " --mode coupled"),
@@ -230,6 +288,14 @@ class Resume : public Cli {
       EXPECT_EQ(summary_number(a, key), summary_number(b, key)) << key;
     EXPECT_NE(slurp(b / "summary.json").find("\"status\": \"finished\""), std::string::npos);
     EXPECT_FALSE(fs::exists(b / "checkpoint.h5"));  // a finished run needs none
+    // The same files: no snapshot or frame of the interruption left behind.
+    auto names = [](const fs::path& folder) {
+      std::set<std::string> all;
+      for (const auto& e : fs::recursive_directory_iterator(folder))
+        all.insert(fs::relative(e.path(), folder).string());
+      return all;
+    };
+    EXPECT_EQ(names(a), names(b));
     for (const auto& e : fs::recursive_directory_iterator(b))
       EXPECT_EQ(e.path().string().find(".part"), std::string::npos) << e.path();
   }
