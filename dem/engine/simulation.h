@@ -127,8 +127,10 @@ class Simulation {
                          const std::vector<Vec3>& velocities);
 
   // PFC's estimate: min over bodies and degrees of freedom of sqrt(m/k) and sqrt(I/k_rot) with
-  // the stiffness summed over the body's current contacts (a body with none: one contact), with
-  // the scaled mass and inertia while density scaling is on.
+  // the stiffness summed over the body's current contacts (a body with none: one contact), each
+  // shortened by the factor sqrt(1 + zeta^2) - zeta of the dashpots summed alike (half the
+  // damped limit, as sqrt(m/k) is half the undamped one; docs/theory.md, "Dashpots"), with the
+  // scaled mass and inertia while density scaling is on.
   double critical_timestep() const;
   // Density scaling (PFC's, for quasi-static runs; docs/theory.md, "Density scaling"): the mass
   // and inertia with which every body accelerates become s_b times its own, with s_b the smallest
@@ -235,8 +237,8 @@ class Simulation {
   // contacts with that mesh, the history slot).
   template <class Visitor>
   void visit_mesh_contacts(Visitor&& visit) const;
-  // Per body, the smallest of sqrt(m/k) and sqrt(I/k_rot) over its degrees of freedom, with
-  // its true mass and inertia (critical_timestep()).
+  // Per body, the smallest of sqrt(m/k) and sqrt(I/k_rot) over its degrees of freedom, shortened
+  // by its dashpots, with its true mass and inertia (critical_timestep()).
   std::vector<double> body_critical_steps(bool within_skin = false) const;
   double inertia_scale(int b) const { return inertia_scale_.empty() ? 1.0 : inertia_scale_[b]; }
   [[noreturn]] void runaway(int ei, int ej, double ratio, const std::string& other) const;

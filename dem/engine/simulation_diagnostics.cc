@@ -50,20 +50,17 @@ double damped_half_limit(double m, double k, double c) {
   return (std::sqrt(1 + zeta * zeta) - zeta) * std::sqrt(m / k);
 }
 
-}  // namespace
-
-std::vector<double> Simulation::body_critical_steps(bool within_skin) const {
-  // Stiffness per body and DOF, summed over its contacts with K = k_n n n^T + k_s (I - n n^T):
-  // translation along e_a: e_a^T K e_a; rotation about e_a: u^T K u with u = e_a x lever (the
-  // contact point's displacement per unit rotation), plus the rolling stiffness k_s R_eff^2.
-  // The dashpots, C = c_n n n^T + c_s (I - n n^T), are summed the same way (rolling has none).
-  // PFC takes sqrt(m / k) and sqrt(I / k_rot), the smallest over bodies and DOFs; the dashpots
-  // shorten each by the factor sqrt(1 + zeta^2) - zeta.
-  const int nb = p_.num_bodies();
-  std::vector<Vec3> kt(nb, Vec3::Zero()), kr(nb, Vec3::Zero());
-  std::vector<Vec3> ct(nb, Vec3::Zero()), cr(nb, Vec3::Zero());
-  auto add = [&](int b, const ContactProperties& pr, double m_eff, const Vec3& n, const Vec3& lever,
-                 double r) {
+// Per body and degree of freedom (translation along and rotation about each world axis), the
+// springs and the dashpots of its contacts summed.
+struct DofSums {
+  explicit DofSums(int bodies) : kt(bodies, Vec3::Zero()), kr(kt), ct(kt), cr(kt) {}
+  // One contact of body b with normal n, lever from the body's centre to the contact point and
+  // rolling radius r: K = k_n n n^T + k_s (I - n n^T) along e_a gives e_a^T K e_a, about e_a
+  // u^T K u with u = e_a x lever (the contact point's displacement per unit rotation), plus the
+  // rolling stiffness k_s r^2; the dashpots, C = c_n n n^T + c_s (I - n n^T), alike (rolling
+  // has none).
+  void add(int b, const ContactProperties& pr, double m_eff, const Vec3& n, const Vec3& lever,
+           double r) {
     const double cn = normal_dashpot(pr, m_eff), cs = shear_dashpot(pr, m_eff);
     for (int a = 0; a < 3; ++a) {
       kt[b][a] += pr.kn * n[a] * n[a] + pr.ks * (1 - n[a] * n[a]);
@@ -74,7 +71,36 @@ std::vector<double> Simulation::body_critical_steps(bool within_skin) const {
                   (pr.has_rolling() ? pr.ks * r * r : 0.0);
       cr[b][a] += cn * un * un + cs * (u.squaredNorm() - un * un);
     }
-  };
+  }
+  // A body touching nothing yet: one contact with its own material, its first touch, at `lever`
+  // from its centre (with the dashpots of a touch on a wall, m_eff = m: the largest).
+  void add_first_touch(int b, const ContactProperties& pr, double mass, double lever) {
+    const double cn = normal_dashpot(pr, mass), cs = shear_dashpot(pr, mass);
+    kt[b].array() += std::max(pr.kn, pr.ks);
+    ct[b].array() += pr.kn >= pr.ks ? cn : cs;
+    kr[b].array() += pr.ks * (lever * lever);
+    cr[b].array() += cs * (lever * lever);
+  }
+  // The smallest damped half limit over the body's degrees of freedom; rotations with its
+  // smallest principal moment.
+  double step(int b, double mass, double inertia) const {
+    double step = std::numeric_limits<double>::infinity();
+    for (int a = 0; a < 3; ++a) {
+      step = std::min(step, damped_half_limit(mass, kt[b][a], ct[b][a]));
+      step = std::min(step, damped_half_limit(inertia, kr[b][a], cr[b][a]));
+    }
+    return step;
+  }
+  std::vector<Vec3> kt, kr, ct, cr;
+};
+
+}  // namespace
+
+std::vector<double> Simulation::body_critical_steps(bool within_skin) const {
+  // PFC takes sqrt(m / k) and sqrt(I / k_rot) with the springs of a body's contacts summed, the
+  // smallest over bodies and DOFs; the dashpots shorten each by sqrt(1 + zeta^2) - zeta.
+  const int nb = p_.num_bodies();
+  DofSums sums(nb);
   // Whether a body touches anything now: one that does not gets the free-body contact below, in
   // both ways of counting, so that the within-skin count never has fewer springs than the count
   // a step is checked with (its neighbours' levers may be shorter than the free-body rule's).
@@ -91,8 +117,8 @@ std::vector<double> Simulation::body_critical_steps(bool within_skin) const {
       const ContactProperties& pr = materials_.pair(p_.material[i], p_.material[j]);
       const double reff = p_.radius[i] * p_.radius[j] / (p_.radius[i] + p_.radius[j]);
       const double m_eff = p_.mass[bi] * p_.mass[bj] / (p_.mass[bi] + p_.mass[bj]);
-      add(bi, pr, m_eff, n, p_.pos[i] + n * p_.radius[i] - p_.x[bi], reff);
-      add(bj, pr, m_eff, n, p_.pos[j] - n * p_.radius[j] - p_.x[bj], reff);
+      sums.add(bi, pr, m_eff, n, p_.pos[i] + n * p_.radius[i] - p_.x[bi], reff);
+      sums.add(bj, pr, m_eff, n, p_.pos[j] - n * p_.radius[j] - p_.x[bj], reff);
     }
   for (std::size_t w = 0; w < planes_.size(); ++w)
     for (int e : plane_history_[w].element) {
@@ -100,36 +126,23 @@ std::vector<double> Simulation::body_critical_steps(bool within_skin) const {
       const ContactProperties& pr = materials_.pair(planes_[w].material, p_.material[e]);
       const int b = p_.body[e];
       touches[b] = 1;
-      add(b, pr, p_.mass[b], planes_[w].normal,
-          p_.pos[e] - planes_[w].normal * p_.radius[e] - p_.x[b], p_.radius[e]);
+      sums.add(b, pr, p_.mass[b], planes_[w].normal,
+               p_.pos[e] - planes_[w].normal * p_.radius[e] - p_.x[b], p_.radius[e]);
     }
   visit_mesh_contacts([&](int m, int, int e, const MeshContactPoint& pt, int) {
     const int b = p_.body[e];
     touches[b] = 1;
-    add(b, materials_.pair(meshes_[m].material, p_.material[e]), p_.mass[b], pt.normal,
-        pt.point - p_.x[b], p_.radius[e]);
+    sums.add(b, materials_.pair(meshes_[m].material, p_.material[e]), p_.mass[b], pt.normal,
+             pt.point - p_.x[b], p_.radius[e]);
   });
   std::vector<double> steps(nb);
   for (int b = 0; b < nb; ++b) {
     if (!touches[b]) {
-      // A body touching nothing yet: one contact with its own material, its first touch (with
-      // the dashpots of a touch on a wall, m_eff = m: the largest).
       const int e = p_.first_element[b];
-      const ContactProperties& pr = materials_.pair(p_.material[e], p_.material[e]);
-      const double lever2 = std::pow((p_.pos[e] - p_.x[b]).norm() + p_.radius[e], 2);
-      const double cn = normal_dashpot(pr, p_.mass[b]), cs = shear_dashpot(pr, p_.mass[b]);
-      kt[b].array() += std::max(pr.kn, pr.ks);
-      ct[b].array() += pr.kn >= pr.ks ? cn : cs;
-      kr[b].array() += pr.ks * lever2;
-      cr[b].array() += cs * lever2;
+      sums.add_first_touch(b, materials_.pair(p_.material[e], p_.material[e]), p_.mass[b],
+                           (p_.pos[e] - p_.x[b]).norm() + p_.radius[e]);
     }
-    const double inertia = p_.inertia[b].minCoeff();
-    double step = std::numeric_limits<double>::infinity();
-    for (int a = 0; a < 3; ++a) {
-      step = std::min(step, damped_half_limit(p_.mass[b], kt[b][a], ct[b][a]));
-      step = std::min(step, damped_half_limit(inertia, kr[b][a], cr[b][a]));
-    }
-    steps[b] = step;
+    steps[b] = sums.step(b, p_.mass[b], p_.inertia[b].minCoeff());
   }
   return steps;
 }
