@@ -100,8 +100,8 @@ void declare_simulation(ParameterHandler& prm) {
   prm.declare_entry("track energy", "true", Bool(),
                     "Tally dissipation and work every step for the energy balance");
   prm.declare_entry("energy error limit", "0.1", Double(1e-6, 1),
-                    "The run stops as blown up when its energy balance error exceeds this (without "
-                    "'track energy', when energy appears that no work put in)");
+                    "The run stops as blown up when its energy balance error rises above this: "
+                    "energy that no work put in");
   prm.declare_entry("seed", "1", Integer(0), "Seed of the random generators");
   prm.leave_subsection();
 }
@@ -431,9 +431,7 @@ void declare_output(ParameterHandler& prm) {
 
 void parse_output(ParameterHandler& prm, const ParameterSource& in, CaseParameters& c) {
   prm.enter_subsection("output");
-  c.output_folder = prm.get("folder");
-  if (c.output_folder.empty())
-    throw InputError(in.path + ": output/folder is empty; valid: a folder name");
+  c.output_folder = output_folder_of(prm, in);
   c.history_interval = prm.get_double("history interval");
   c.vtu_interval = prm.get_double("vtu interval");
   c.snapshot_interval = prm.get_double("snapshot interval");

@@ -28,6 +28,12 @@ dem::Vec3 vector_of(const dealii::ParameterHandler& prm, const std::string& name
   return dem::Vec3(v[0], v[1], v[2]);
 }
 
+std::string output_folder_of(const dealii::ParameterHandler& prm, const ParameterSource& in) {
+  const std::string folder = prm.get("folder");
+  if (folder.empty()) throw InputError(in.path + ": output/folder is empty; valid: a folder name");
+  return folder;
+}
+
 std::array<double, 6> six_of(const dealii::ParameterHandler& prm, const std::string& name) {
   const auto v =
       dealii::Utilities::string_to_double(dealii::Utilities::split_string_list(prm.get(name)));

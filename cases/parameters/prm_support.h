@@ -64,4 +64,8 @@ struct ParameterSource {
   const ValueFolders& folders;
 };
 
+// The `folder` entry of the output subsection the caller is in; InputError naming the file when
+// it is empty (a run or build would write under the root folder).
+std::string output_folder_of(const dealii::ParameterHandler& prm, const ParameterSource& in);
+
 }  // namespace trackbed::cases

@@ -317,9 +317,7 @@ void declare_output(ParameterHandler& prm, const dem::SampleBuildSettings&) {
 
 void parse_output(ParameterHandler& prm, const ParameterSource& in, SampleParameters& p) {
   prm.enter_subsection("output");
-  p.output_folder = prm.get("folder");
-  if (p.output_folder.empty())
-    throw InputError(in.path + ": output/folder is empty; valid: a folder name");
+  p.output_folder = output_folder_of(prm, in);
   p.progress_interval = prm.get_double("progress interval");
   p.checkpoint_interval = prm.get_double("checkpoint interval");
   p.vtu = prm.get_bool("vtu");
