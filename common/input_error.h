@@ -19,6 +19,10 @@ inline InputError input_error_at(const std::string& file, int line, const std::s
   return InputError(file + ":" + std::to_string(line) + ": " + message);
 }
 
+// A value quoted in an error message: itself, or its first 60 characters and its length when it
+// is longer than 80 (a message stays one readable line whatever the input).
+std::string excerpt(const std::string& value);
+
 // Throws InputError("<what> = <value> is out of range; valid: [lo, hi]") unless v is finite and
 // in [lo, hi].
 void check_range(const std::string& what, double v, double lo, double hi);

@@ -3,8 +3,8 @@
 //   mpirun -np P trackbed run COUPLED.prm       the FE subgrade on P processes, the DEM on the
 //   first trackbed resume DIR [--threads N]        continue an interrupted run from its checkpoint
 //   trackbed build-sample SAMPLE.prm [--threads N] [--output DIR]
-//   trackbed --print-parameters      every case-file parameter with default and documentation
-//   trackbed build-sample --print-parameters   the same for sample files
+//   trackbed --print-parameters [json]   every case-file parameter with default and documentation
+//   trackbed build-sample --print-parameters [json]   the same for sample files
 //   trackbed --help | --version
 #include <cstdlib>
 #include <exception>
@@ -36,7 +36,7 @@ const char* const kUsage =
     "usage: trackbed run CASE.prm [--mode dem|coupled] [--threads N] [--output DIR]\n"
     "       trackbed resume DIR [--threads N]\n"
     "       trackbed build-sample SAMPLE.prm [--threads N] [--output DIR]\n"
-    "       trackbed --print-parameters | build-sample --print-parameters\n"
+    "       trackbed --print-parameters [json] | build-sample --print-parameters [json]\n"
     "       trackbed --help | --version\n"
     "\n"
     "Runs the railway ballast model described by CASE.prm (deal.II parameter file syntax) and\n"
@@ -149,13 +149,24 @@ void require_file(const std::string& path, const std::string& file, const std::s
                                what + " it started from, where it was");
 }
 
-// Throws InputError when the file's parameters (fingerprint `now`) differ from those it started
-// with (`then`), naming the first that differs.
-void require_unchanged(const std::string& file, const std::string& then, const std::string& now) {
+// Throws InputError naming the checkpoint `checkpoint` when `file`'s parameters (fingerprint
+// `now`) differ from those it started with (`then`, saved in the checkpoint), naming the first
+// that differs.
+void require_unchanged(const std::string& checkpoint, const std::string& file,
+                       const std::string& then, const std::string& now) {
   const std::string changed = first_difference(then, now);
   if (!changed.empty())
-    throw trackbed::InputError(file + " has changed since it started: " + changed +
-                               "; valid: the file as it was, or a new start");
+    throw trackbed::InputError(checkpoint + ": " + file + " has changed since it started: " +
+                               changed + "; valid: the file as it was, or a new start");
+}
+
+// Throws InputError unless the checkpoint `path` was written by this version of trackbed: a
+// resumed run continues bit for bit only in the program that started it.
+void require_same_version(const std::string& path, const std::string& version) {
+  if (version != TRACKBED_VERSION)
+    throw trackbed::InputError(path + ": written by trackbed " + trackbed::excerpt(version) +
+                               ", this is " + TRACKBED_VERSION + "; valid: resume with trackbed " +
+                               trackbed::excerpt(version) + ", or start anew");
 }
 
 // The threads of a resumed run or build: those asked for, else the checkpoint's.
@@ -199,18 +210,20 @@ int resume(const std::vector<std::string>& args, const StartMpi& start_mpi) {
   if (is_sample_checkpoint(path)) {
     require_one_process("a sample build");
     SampleCheckpoint checkpoint = read_sample_checkpoint(path);
+    require_same_version(path, checkpoint.version);
     require_file(path, checkpoint.sample_file, "sample file");
     SampleParameters prm = read_sample_file(checkpoint.sample_file);
-    require_unchanged(checkpoint.sample_file, checkpoint.fingerprint, prm.fingerprint);
+    require_unchanged(path, checkpoint.sample_file, checkpoint.fingerprint, prm.fingerprint);
     prm.output_folder = dir;
     prm.threads = resumed_threads(threads, checkpoint.threads);
     SampleRun run(std::move(prm));
     return run.resume(std::move(checkpoint));
   }
   RunCheckpoint checkpoint = read_run_checkpoint(path);
+  require_same_version(path, checkpoint.version);
   require_file(path, checkpoint.case_file, "case file");
   CaseParameters prm = read_case_file(checkpoint.case_file);
-  require_unchanged(checkpoint.case_file, checkpoint.case_fingerprint, prm.fingerprint);
+  require_unchanged(path, checkpoint.case_file, checkpoint.case_fingerprint, prm.fingerprint);
   prm.output_folder = dir;
   if (checkpoint.coupled) {
     prm.mode = "coupled";
@@ -225,7 +238,7 @@ int resume(const std::vector<std::string>& args, const StartMpi& start_mpi) {
 
 int build_sample(const std::vector<std::string>& args) {
   if (args.size() >= 2 && args[1] == "--print-parameters") {
-    trackbed::cases::print_sample_parameters(std::cout);
+    trackbed::cases::print_sample_parameters(std::cout, args.size() > 2 && args[2] == "json");
     return 0;
   }
   if (args.size() < 2)
@@ -276,7 +289,7 @@ int main(int argc, char** argv) {
     return 0;
   }
   if (args[0] == "--print-parameters") {
-    trackbed::cases::print_parameters(std::cout);
+    trackbed::cases::print_parameters(std::cout, args.size() > 1 && args[1] == "json");
     return 0;
   }
   if (args[0] != "run" && args[0] != "resume" && args[0] != "build-sample")

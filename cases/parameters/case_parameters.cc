@@ -150,13 +150,13 @@ void declare_materials(ParameterHandler& prm) {
   prm.leave_subsection();
 }
 
-void parse_materials(ParameterHandler& prm, const ParameterSource&, CaseParameters& c) {
+void parse_materials(ParameterHandler& prm, const ParameterSource& in, CaseParameters& c) {
   prm.enter_subsection("materials");
   const int nmat = prm.get_integer("number of materials");
   for (int i = 0; i < nmat; ++i) {
     prm.enter_subsection("material " + std::to_string(i));
     dem::Material m;
-    m.name = prm.get("name");
+    m.name = name_of(prm, in.path + ": materials/material " + std::to_string(i) + "/");
     read_material_values(prm, m);
     c.materials.push_back(m);
     prm.leave_subsection();
@@ -227,13 +227,14 @@ void declare_plane_walls(ParameterHandler& prm) {
   prm.leave_subsection();
 }
 
-void parse_plane_walls(ParameterHandler& prm, const ParameterSource&, CaseParameters& c) {
+void parse_plane_walls(ParameterHandler& prm, const ParameterSource& in, CaseParameters& c) {
   prm.enter_subsection("plane walls");
   const int nplanes = prm.get_integer("number of walls");
   for (int i = 0; i < nplanes; ++i) {
     prm.enter_subsection("wall " + std::to_string(i));
-    c.planes.push_back({prm.get("name"), prm.get("material"), vector_of(prm, "point"),
-                        vector_of(prm, "normal"), vector_of(prm, "velocity")});
+    c.planes.push_back({name_of(prm, in.path + ": plane walls/wall " + std::to_string(i) + "/"),
+                        prm.get("material"), vector_of(prm, "point"), vector_of(prm, "normal"),
+                        vector_of(prm, "velocity")});
     prm.leave_subsection();
   }
   prm.leave_subsection();
@@ -278,7 +279,7 @@ void parse_meshes(ParameterHandler& prm, const ParameterSource& in, CaseParamete
     const std::string where = path + ": meshes/mesh " + std::to_string(i) + "/";
     prm.enter_subsection("mesh " + std::to_string(i));
     MeshParameters m;
-    m.name = prm.get("name");
+    m.name = name_of(prm, where);
     m.file = folders.resolve("meshes/mesh " + std::to_string(i) + "/file", prm.get("file"));
     m.from_sample = prm.get_bool("from sample");
     m.box = six_of(prm, "box");
@@ -487,26 +488,28 @@ CaseParameters read_case_file(const std::string& path) {
   const ParameterSource in{path, folders};
   CaseParameters c;
   c.file = path;
-  parse_simulation(prm, in, c);
-  parse_physics(prm, in, c);
-  parse_materials(prm, in, c);
-  parse_contact_pairs(prm, in, c);
-  parse_plane_walls(prm, in, c);
-  parse_meshes(prm, in, c);
-  parse_particles(prm, in, c);
-  parse_push_test(prm, in, c);
-  parse_coupling(prm, in, c);
-  parse_fem(prm, in, c);
-  parse_output(prm, in, c);
+  read_values(path, [&] {
+    parse_simulation(prm, in, c);
+    parse_physics(prm, in, c);
+    parse_materials(prm, in, c);
+    parse_contact_pairs(prm, in, c);
+    parse_plane_walls(prm, in, c);
+    parse_meshes(prm, in, c);
+    parse_particles(prm, in, c);
+    parse_push_test(prm, in, c);
+    parse_coupling(prm, in, c);
+    parse_fem(prm, in, c);
+    parse_output(prm, in, c);
+  });
   check_sources(c, path);
   c.fingerprint = fingerprint(prm);
   return c;
 }
 
-void print_parameters(std::ostream& out) {
+void print_parameters(std::ostream& out, bool json) {
   ParameterHandler prm;
   declare(prm);
-  prm.print_parameters(out, ParameterHandler::PRM);
+  prm.print_parameters(out, json ? ParameterHandler::JSON : ParameterHandler::PRM);
 }
 
 }  // namespace trackbed::cases

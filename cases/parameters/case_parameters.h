@@ -93,7 +93,8 @@ struct CaseParameters {
 // that set it (the case file or a file it includes). Throws InputError with one line naming
 // the file, line or parameter.
 CaseParameters read_case_file(const std::string& path);
-// Writes every parameter with its default value and documentation, in .prm syntax.
-void print_parameters(std::ostream& out);
+// Writes every parameter with its default value and documentation, in .prm syntax, or as JSON
+// with each entry's pattern (type and valid range) for tools.
+void print_parameters(std::ostream& out, bool json = false);
 
 }  // namespace trackbed::cases

@@ -34,6 +34,25 @@ std::string output_folder_of(const dealii::ParameterHandler& prm, const Paramete
   return folder;
 }
 
+std::string name_of(const dealii::ParameterHandler& prm, const std::string& where) {
+  const std::string name = prm.get("name");
+  const bool valid =
+      !name.empty() && name.size() <= 64 && std::all_of(name.begin(), name.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+      });
+  if (!valid)
+    throw InputError(where + "name = '" + excerpt(name) +
+                     "': valid: 1 to 64 letters, digits, '_', '-' or '.' (names head CSV "
+                     "columns and summary keys)");
+  return name;
+}
+
+InputError value_error(const std::string& path, const std::exception& e) {
+  return InputError(path + ": " + one_line(e) +
+                    "; valid: a number of normal size (about 1e-300 to 1e300), an integer "
+                    "within range");
+}
+
 std::array<double, 6> six_of(const dealii::ParameterHandler& prm, const std::string& name) {
   const auto v =
       dealii::Utilities::string_to_double(dealii::Utilities::split_string_list(prm.get(name)));
@@ -170,7 +189,11 @@ std::string one_line(const std::exception& e) {
     out += c;
   }
   while (!out.empty() && out.back() == ' ') out.pop_back();
-  return out;
+  // deal.II quotes the values it refuses: a long one is shortened.
+  std::istringstream words(out);
+  std::string shortened, word;
+  while (words >> word) shortened += (shortened.empty() ? "" : " ") + excerpt(word);
+  return shortened;
 }
 
 namespace {
@@ -186,6 +209,18 @@ struct ExpandedFile {
   SectionScanner sections;
   bool continued = false;  // the previous line ended with '\': this one is part of its value
 };
+
+// Throws InputError at `where` unless `path` is a regular file of a parameter file's size: a
+// folder, a FIFO or a device (/dev/zero) would be read forever or as nothing.
+void require_parameter_text(const std::string& path, const std::string& where) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    throw InputError(where + ": not a regular file; valid: a .prm text file");
+  constexpr std::uintmax_t kMaxBytes = 16u << 20;
+  if (fs::file_size(path, ec) > kMaxBytes)
+    throw InputError(where + ": larger than 16 MB; valid: a .prm text file");
+}
 
 void expand(const std::string& path, ExpandedFile& out, int depth) {
   namespace fs = std::filesystem;
@@ -207,6 +242,7 @@ void expand(const std::string& path, ExpandedFile& out, int depth) {
         throw InputError(where +
                          ": file not found; valid: a path relative to the folder "
                          "of the including file");
+      require_parameter_text(target.string(), where);
       expand(target.lexically_normal().string(), out, depth + 1);
       continue;
     }
@@ -236,6 +272,7 @@ ValueFolders parse_parameter_file(dealii::ParameterHandler& prm, const std::stri
                                   const std::string& print_command) {
   if (!std::filesystem::exists(path))
     throw InputError(path + ": file not found; valid: a .prm file (see '" + print_command + "')");
+  require_parameter_text(path, path);
   ExpandedFile file;
   expand(path, file, 0);
   try {

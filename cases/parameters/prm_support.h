@@ -8,8 +8,10 @@
 #include <array>
 #include <exception>
 #include <map>
+#include <stdexcept>
 #include <string>
 
+#include "common/input_error.h"
 #include "dem/engine/material.h"
 #include "dem/engine/types.h"
 
@@ -64,8 +66,32 @@ struct ParameterSource {
   const ValueFolders& folders;
 };
 
+// The `name` entry of the subsection the caller is in (a material, wall or mesh): names head CSV
+// columns and JSON keys, so InputError at `where` unless 1 to 64 letters, digits, '_', '-', '.'.
+std::string name_of(const dealii::ParameterHandler& prm, const std::string& where);
+
+// Runs `read` (the parse_ functions of a parameter file at `path`): a value that matched its
+// pattern but that deal.II or the standard library cannot convert (a subnormal number, an integer
+// beyond range) becomes one InputError line naming the file and the entry.
+template <class Read>
+void read_values(const std::string& path, Read&& read);
+
 // The `folder` entry of the output subsection the caller is in; InputError naming the file when
 // it is empty (a run or build would write under the root folder).
 std::string output_folder_of(const dealii::ParameterHandler& prm, const ParameterSource& in);
+
+// The InputError of read_values: the file and the exception's text as one line.
+InputError value_error(const std::string& path, const std::exception& e);
+
+template <class Read>
+void read_values(const std::string& path, Read&& read) {
+  try {
+    read();
+  } catch (const dealii::ExceptionBase& e) {
+    throw value_error(path, e);
+  } catch (const std::logic_error& e) {  // std::stol and the like: invalid_argument, out_of_range
+    throw value_error(path, e);
+  }
+}
 
 }  // namespace trackbed::cases

@@ -375,20 +375,22 @@ SampleParameters read_sample_file(const std::string& path) {
   const ParameterSource in{path, folders};
   SampleParameters p;
   p.file = path;
-  parse_section(prm, in, p);
-  parse_grading(prm, in, p);
-  parse_materials(prm, in, p);
-  parse_build(prm, in, p);
-  parse_zone(prm, in, p);
-  parse_output(prm, in, p);
+  read_values(path, [&] {
+    parse_section(prm, in, p);
+    parse_grading(prm, in, p);
+    parse_materials(prm, in, p);
+    parse_build(prm, in, p);
+    parse_zone(prm, in, p);
+    parse_output(prm, in, p);
+  });
   p.fingerprint = fingerprint(prm);
   return p;
 }
 
-void print_sample_parameters(std::ostream& out) {
+void print_sample_parameters(std::ostream& out, bool json) {
   ParameterHandler prm;
   declare(prm);
-  prm.print_parameters(out, ParameterHandler::PRM);
+  prm.print_parameters(out, json ? ParameterHandler::JSON : ParameterHandler::PRM);
 }
 
 }  // namespace trackbed::cases

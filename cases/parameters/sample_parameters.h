@@ -39,7 +39,7 @@ struct SampleParameters {
 // file that set it (the sample file or a file it includes). Throws
 // InputError with one line naming the file and the parameter.
 SampleParameters read_sample_file(const std::string& path);
-void print_sample_parameters(std::ostream& out);
+void print_sample_parameters(std::ostream& out, bool json = false);
 
 // The zone expression of a preset for a section, with the push toward +x: all-clump, all-ball,
 // half-by-height, optimised (docs/samples.md, "Zone presets"). Throws InputError for an unknown

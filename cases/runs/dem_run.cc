@@ -15,6 +15,8 @@
 #include "cases/app/stop_signal.h"
 #include "cases/reports/report_support.h"
 #include "common/input_error.h"
+#include "common/number_text.h"
+#include "common/output_folder.h"
 #include "dem/io/atomic_file.h"
 #include "dem/io/snapshot.h"
 
@@ -46,9 +48,8 @@ DemRun::~DemRun() = default;
 
 void DemRun::open_outputs(const RunCheckpoint* c) {
   out_ = prm_.output_folder;
-  fs::create_directories(fs::path(out_) / "history");
-  fs::create_directories(fs::path(out_) / "vtu");
-  fs::create_directories(fs::path(out_) / "snapshots");
+  create_output_folders(out_, {"history", "vtu", "snapshots"},
+                        prm_.file + ": output/folder = " + out_);
   series_ = std::make_unique<Series>();
   const std::string h = out_ + "/history/";
   auto open = [&](const char* name, int k) {
@@ -196,9 +197,14 @@ void DemRun::make_push_test() {
   if (!prm_.push.mesh.empty()) push_ = std::make_unique<PushTest>(prm_.push, *sim_, prm_.file);
   // A push test ends when the push does; the step count is its estimate, updated as it goes.
   const double end_time = push_ ? push_->expected_end(*sim_) : prm_.end_time;
-  total_steps_ = prm_.number_of_steps > 0
-                     ? prm_.number_of_steps
-                     : static_cast<long>(std::ceil(end_time / sim_->time_step() - 1e-9));
+  const double steps = std::ceil(end_time / sim_->time_step() - 1e-9);
+  constexpr double kMaxSteps = 1e12;  // beyond any run's wall time, and exact in a long
+  if (prm_.number_of_steps == 0 && !(steps <= kMaxSteps))
+    throw InputError(prm_.file +
+                     (push_ ? ": the push test's end at " : ": simulation/end time = ") +
+                     number_text(end_time) + " s is " + number_text(steps) + " steps of " +
+                     number_text(sim_->time_step()) + " s; valid: at most 1e12 steps");
+  total_steps_ = prm_.number_of_steps > 0 ? prm_.number_of_steps : static_cast<long>(steps);
 }
 
 void DemRun::find_tracked_bodies() {
@@ -254,7 +260,11 @@ void DemRun::start_from(RunCheckpoint& c) {
                      " push test and the case " + (push_ ? "has" : "has none") +
                      "; valid: the case the run started from");
   const long step = c.engine.steps;
-  sim_->restore_engine_state(std::move(c.engine));
+  try {
+    sim_->restore_engine_state(std::move(c.engine));
+  } catch (const InputError& e) {
+    throw InputError((fs::path(prm_.output_folder) / kCheckpointFile).string() + ": " + e.what());
+  }
   if (push_) push_->resume(c.push);
   if (push_) total_steps_ = std::lround(push_->expected_end(*sim_) / sim_->time_step());
   initial_energy_ = c.initial_energy;

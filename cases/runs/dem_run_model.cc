@@ -7,6 +7,7 @@
 
 #include "cases/runs/dem_run.h"
 #include "common/input_error.h"
+#include "common/number_text.h"
 #include "dem/engine/clump_template.h"
 #include "dem/engine/triangle_mesh.h"
 #include "dem/io/clump_template_file.h"
@@ -158,7 +159,16 @@ void DemRun::add_mesh(const MeshParameters& m, const dem::Sample* sample) {
       m.file.empty() ? dem::make_box_mesh(Vec3(m.box[0], m.box[1], m.box[2]),
                                           Vec3(m.box[3], m.box[4], m.box[5]), m.named_box_parts)
                      : dem::read_stl(m.file);
-  for (auto& v : mesh.vertices) v = v * m.scale + m.translation;
+  // A model spans metres to kilometres: a vertex beyond 1e6 m is a wrong scale or translation
+  // (an STL in millimetres needs scale 0.001), and its products would overflow.
+  constexpr double kMaxCoordinate = 1e6;
+  for (auto& v : mesh.vertices) {
+    v = v * m.scale + m.translation;
+    if (!(v.cwiseAbs().maxCoeff() <= kMaxCoordinate))
+      throw InputError(where + ": a vertex lies at (" + number_text(v.x()) + ", " +
+                       number_text(v.y()) + ", " + number_text(v.z()) +
+                       ") m after scale and translation; valid: coordinates within 1e6 m");
+  }
   const int mat = material_index(sim_->materials(), m.material, where);
   const double density = m.density > 0 ? m.density : (m.mass > 0 ? 1.0 : 0.0);
   dem::MeshBody body = dem::MeshBody::from_world_mesh(m.name, mesh, mat, density, Vec3::Zero());

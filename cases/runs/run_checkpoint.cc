@@ -1,5 +1,6 @@
 #include "cases/runs/run_checkpoint.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/input_error.h"
@@ -60,6 +61,43 @@ SubgradeCoupling::Progress read_coupling(hid_t file, const std::string& path) {
   return p;
 }
 
+bool finite(const std::vector<double>& v) {
+  return std::all_of(v.begin(), v.end(), [](double a) { return std::isfinite(a); });
+}
+
+// The run's own numbers (the engine state is checked where it is restored): finite where they
+// must be; the next output times >= 0, infinite when no output is planned; history lengths >= 0.
+void check_run_numbers(const RunCheckpoint& c, const std::string& path) {
+  const bool times_ok = c.next_history >= 0 && c.next_frame >= 0 && c.next_snapshot >= 0 &&
+                        c.loop_start_step >= 0 && std::isfinite(c.wall_seconds) &&
+                        std::isfinite(c.loop_seconds);
+  const bool bytes_ok = std::all_of(c.history_bytes.begin(), c.history_bytes.end(),
+                                    [](std::int64_t b) { return b >= 0; });
+  const auto& e = c.initial_energy;
+  // The first frame is written at the start; frames follow in time, none after the state's.
+  const bool frames_ok = !c.frame_times.empty() &&
+                         std::is_sorted(c.frame_times.begin(), c.frame_times.end()) &&
+                         c.frame_times.back() <= c.engine.time;
+  const bool start_ok = frames_ok && finite(c.frame_times) && finite(energy_numbers(e)) &&
+                        std::all_of(c.initial_positions.begin(), c.initial_positions.end(),
+                                    [](const dem::Vec3& x) { return x.allFinite(); });
+  if (!times_ok || !bytes_ok || !start_ok)
+    throw InputError(path +
+                     ": the run's counters, frame times, history lengths or starting "
+                     "state hold a value out of range (not finite, negative, out of order); the "
+                     "file is damaged");
+}
+
+// The push test's clock and counters (its hold ratio is NaN until the first hold is judged; its
+// rows are the output's, NaN where a figure is not defined yet).
+void check_push_numbers(const PushTest::Progress& p, const std::string& path) {
+  if (!std::isfinite(p.start) || !std::isfinite(p.push_start) || std::isinf(p.hold_ratio) ||
+      p.leg < 0 || p.confirmations < 0)
+    throw InputError(path +
+                     ": the push test's clock or counters hold a value out of range (not "
+                     "finite, negative); the file is damaged");
+}
+
 }  // namespace
 
 void write_run_checkpoint(const std::string& path, const RunCheckpoint& c) {
@@ -109,7 +147,7 @@ RunCheckpoint read_run_checkpoint(const std::string& path) {
   c.version = hdf5::read_string_attribute(file, path, "version");
   c.case_file = hdf5::read_string_attribute(file, path, "case_file");
   c.case_fingerprint = hdf5::read_string_attribute(file, path, "case_fingerprint");
-  c.threads = std::stoi(hdf5::read_string_attribute(file, path, "threads"));
+  c.threads = static_cast<int>(hdf5::read_integer_attribute(file, path, "threads", 1, 1024));
   {
     Handle g(hdf5::open_group(file, path, "engine"), H5Gclose, "group engine");
     c.engine = dem::read_engine_state(g, path);
@@ -125,6 +163,7 @@ RunCheckpoint read_run_checkpoint(const std::string& path) {
   c.initial_energy = energy_of(hdf5::read_doubles(run, path, "initial_energy", 8));
   c.initial_positions =
       hdf5::read_vectors(run, path, "initial_positions", c.engine.particles.num_elements());
+  check_run_numbers(c, path);
   c.has_push = hdf5::exists(file, "push");
   if (c.has_push) {
     Handle g(hdf5::open_group(file, path, "push"), H5Gclose, "group push");
@@ -132,7 +171,7 @@ RunCheckpoint read_run_checkpoint(const std::string& path) {
     c.push.start = p[0], c.push.push_start = p[1], c.push.hold_ratio = p[2];
     c.push.leg = std::lround(p[3]), c.push.confirmations = static_cast<int>(p[4]);
     c.push.hold_converged = p[5] != 0;
-    const long cols = std::stol(hdf5::read_string_attribute(g, path, "columns"));
+    const long cols = hdf5::read_integer_attribute(g, path, "columns", 0, 1000);
     const auto flat = hdf5::read_doubles(g, path, "rows");
     if (cols <= 0 ? !flat.empty() : flat.size() % cols != 0)
       throw InputError(path + ": push/rows does not hold whole rows; the file is damaged");
@@ -141,6 +180,7 @@ RunCheckpoint read_run_checkpoint(const std::string& path) {
     // Written once the push has started (absent from the checkpoints of trackbed before it).
     if (hdf5::exists(g, "start_support"))
       c.push.start_support = hdf5::read_doubles(g, path, "start_support");
+    check_push_numbers(c.push, path);
   }
   c.coupled = hdf5::exists(file, "coupling");
   if (c.coupled) c.coupling = read_coupling(file, path);

@@ -181,7 +181,7 @@ SampleCheckpoint read_sample_checkpoint(const std::string& path) {
   c.sample_file = hdf5::read_string_attribute(file, path, "sample_file");
   c.fingerprint = hdf5::read_string_attribute(file, path, "fingerprint");
   c.base_digest = hdf5::read_string_attribute(file, path, "base_digest");
-  c.threads = std::stoi(hdf5::read_string_attribute(file, path, "threads"));
+  c.threads = static_cast<int>(hdf5::read_integer_attribute(file, path, "threads", 1, 1024));
   const std::string part = H5Aexists(file, "part") > 0
                                ? hdf5::read_string_attribute(file, path, "part")
                                : std::string(kConversion);

@@ -17,6 +17,7 @@
 #include "cases/runs/run_checkpoint.h"
 #include "common/input_error.h"
 #include "common/number_text.h"
+#include "common/output_folder.h"
 #include "dem/engine/sleeper_support.h"
 #include "dem/io/atomic_file.h"
 #include "dem/io/vtu_writer.h"
@@ -202,7 +203,7 @@ int SampleRun::build(SampleCheckpoint* from) {
   start_ = std::chrono::steady_clock::now();
   if (prm_.threads > 0) omp_set_num_threads(prm_.threads);
   out_ = prm_.output_folder;
-  fs::create_directories(fs::path(out_) / "history");
+  create_output_folders(out_, {"history"}, prm_.file + ": output/folder = " + out_);
   // A fresh build drops an earlier build's checkpoint: were it stopped before its first, resume
   // must not go back to the earlier one.
   if (!from) fs::remove(fs::path(out_) / kCheckpointFile);

@@ -9,6 +9,68 @@ int Particles::num_clumps() const {
   return static_cast<int>(std::count(is_clump.begin(), is_clump.end(), 1));
 }
 
+namespace {
+
+bool finite(const Vec3& a) {
+  return a.allFinite();
+}
+
+bool positive(double a) {
+  return std::isfinite(a) && a > 0;
+}
+
+}  // namespace
+
+std::string Particles::defect(int num_materials) const {
+  const std::size_t nb = x.size(), ne = pos.size();
+  for (std::size_t n : {v.size(), q.size(), w.size(), L.size(), f.size(), t.size(), mass.size(),
+                        inertia.size(), body_material.size(), id.size(), is_clump.size()})
+    if (n != nb) return "the body arrays differ in length";
+  for (std::size_t n : {offset.size(), radius.size(), body.size(), material.size()})
+    if (n != ne) return "the element arrays differ in length";
+  if (first_element.size() != nb + 1 || first_element.front() != 0 ||
+      static_cast<std::size_t>(first_element.back()) != ne)
+    return "first_element does not split the " + std::to_string(ne) + " elements among the " +
+           std::to_string(nb) + " bodies";
+  auto material_ok = [&](int m) { return m >= 0 && m < num_materials; };
+  for (std::size_t b = 0; b < nb; ++b) {
+    const std::string which = "body " + std::to_string(b) + " (id " + std::to_string(id[b]) + ")";
+    if (first_element[b + 1] <= first_element[b])
+      return which + " has no elements (first_element not increasing)";
+    if (!is_clump[b] && first_element[b + 1] - first_element[b] != 1)
+      return which + " is a ball of several elements";
+    if (is_clump[b] > 1) return which + " has is_clump " + std::to_string(is_clump[b]);
+    if (!material_ok(body_material[b]))
+      return which + " has material index " + std::to_string(body_material[b]) + " of " +
+             std::to_string(num_materials);
+    if (!(finite(x[b]) && finite(v[b]) && finite(w[b]) && finite(L[b]) && finite(f[b]) &&
+          finite(t[b])))
+      return which + " has a non-finite position, velocity, force or moment";
+    if (!positive(mass[b]) || !positive(inertia[b].minCoeff()) || !finite(inertia[b]))
+      return which + " has a mass or inertia that is not positive and finite";
+    if (!(std::abs(q[b].norm() - 1) < 1e-6))
+      return which + " has an orientation quaternion of norm " + std::to_string(q[b].norm());
+    if (id[b] < 0) return which + " has a negative id";
+    for (int e = first_element[b]; e < first_element[b + 1]; ++e) {
+      if (body[e] != static_cast<int>(b))
+        return "element " + std::to_string(e) + " names body " + std::to_string(body[e]) +
+               " but lies in the range of " + which;
+      if (!material_ok(material[e]))
+        return "element " + std::to_string(e) + " has material index " +
+               std::to_string(material[e]) + " of " + std::to_string(num_materials);
+      if (!positive(radius[e]) || !finite(offset[e]) || !finite(pos[e]))
+        return "element " + std::to_string(e) +
+               " has a radius, offset or position that is "
+               "not finite (or a radius not positive)";
+    }
+  }
+  std::vector<std::int64_t> sorted = id;
+  std::sort(sorted.begin(), sorted.end());
+  const auto twice = std::adjacent_find(sorted.begin(), sorted.end());
+  if (twice != sorted.end()) return "id " + std::to_string(*twice) + " is given to two bodies";
+  return "";
+}
+
 int Particles::add_body(const Vec3& centre, const Quat& orientation, double m, const Vec3& I,
                         int mat, bool clump, std::int64_t user_id) {
   if (first_element.empty()) first_element.push_back(0);

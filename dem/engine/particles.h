@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "dem/engine/clump_template.h"
@@ -56,6 +57,12 @@ struct Particles {
                              const std::vector<SphereShape>& elements);
   // The bodies with keep[b] true, in their current order, with their full state.
   Particles subset(const std::vector<char>& keep) const;
+
+  // The first broken invariant of a state read from a file, in words ("" when it holds): array
+  // sizes, the element ranges and owners, material indices below `num_materials`, finite state,
+  // positive mass, inertia and radii, unit quaternions, distinct non-negative ids. A damaged file
+  // must be refused before an index or a NaN reaches the engine.
+  std::string defect(int num_materials) const;
 
   // Reorders the bodies (and their elements) along a space-filling order of cells of size
   // `cell`, so that neighbours in space are neighbours in memory: the contact loop then reads

@@ -4,7 +4,9 @@
 #include "dem/io/engine_state.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <sstream>
 
 #include "common/input_error.h"
@@ -74,6 +76,41 @@ bool csr(const std::vector<int>& offsets, std::size_t rows, std::size_t entries)
          std::size_t(offsets.back()) == entries && std::is_sorted(offsets.begin(), offsets.end());
 }
 
+bool finite(const std::vector<Vec3>& v) {
+  return std::all_of(v.begin(), v.end(), [](const Vec3& a) { return a.allFinite(); });
+}
+
+bool finite(const std::vector<double>& v) {
+  return std::all_of(v.begin(), v.end(), [](double a) { return std::isfinite(a); });
+}
+
+bool unit(const Quat& q) {
+  return std::abs(q.norm() - 1) < 1e-6;
+}
+
+// The clock, walls and contact springs of a saved state: finite numbers, a positive step, unit
+// quaternions (the bodies are Particles::defect's).
+bool finite_state(const EngineState& s) {
+  const EnergyBudget& e = s.tally;
+  if (!std::isfinite(s.time) || !(s.time_step > 0 && s.time_step < 1) || s.steps < 0 ||
+      s.builds < 0 || !s.gravity.allFinite() ||
+      !finite({e.friction, e.rolling, e.dashpot, e.local_damping, e.gravity_work, e.wall_work}))
+    return false;
+  for (const EngineState::Plane& p : s.planes)
+    if (!finite({p.point, p.velocity, p.force, p.moment})) return false;
+  for (const EngineState::Mesh& m : s.meshes)
+    if (!finite({m.x, m.v, m.w, m.contact_force, m.contact_moment, m.contact_stiffness,
+                 m.contact_rotational_stiffness}) ||
+        !unit(m.q) || !finite(m.part_force) || !finite(m.part_moment) || !finite(m.vertices))
+      return false;
+  for (const EngineState::WallContacts& w : s.walls)
+    if (!finite(w.shear) || !finite(w.roll) || !finite(w.normal) || !finite(w.fn)) return false;
+  return finite(s.pair_shear) && finite(s.pair_roll) && finite(s.pair_fn) && finite(s.wall_move) &&
+         finite(s.wall_turn) && finite(s.pos_at_build) && finite(s.radius_at_build) &&
+         std::isfinite(s.growth_since_build) && finite(s.wall_point_at_build) &&
+         std::all_of(s.mesh_q_at_build.begin(), s.mesh_q_at_build.end(), unit);
+}
+
 }  // namespace
 
 // Whether the saved lists fit the saved bodies and `nwalls` walls (planes first, one slot per
@@ -136,11 +173,16 @@ void Simulation::restore_engine_state(EngineState s) {
   if (differ.first != saved_ids.end())
     mismatch("body ids: the first that differs is", std::to_string(*differ.first),
              std::to_string(*differ.second));
-  const auto nmat = static_cast<std::size_t>(materials_.size());
-  if (!indices_below(q.material, nmat) || !indices_below(q.body_material, nmat))
-    throw InputError("the saved state names materials this model does not have (it has " +
-                     text(nmat) + "); valid: a state saved from a model built from the same input");
+  const std::string defect = q.defect(static_cast<int>(materials_.size()));
+  if (!defect.empty())
+    throw InputError("the saved state is damaged: " + defect +
+                     "; valid: a state saved from a model built from the same input");
   const std::size_t nwalls = planes_.size() + meshes_.size();
+  if (!finite_state(s))
+    throw InputError(
+        "the saved state is damaged: its clock, walls or contact springs hold a value that is "
+        "not finite (or a time step, step or build count out of range); valid: a state written "
+        "by trackbed");
   if (!consistent_lists(s, nwalls))
     throw InputError(
         "the saved state is inconsistent (its contact lists do not fit its bodies and walls); "
@@ -231,6 +273,10 @@ void write_ints(hid_t g, const char* name, const std::vector<T>& v) {
 template <class T>
 std::vector<T> read_ints(hid_t g, const std::string& file, const char* name, long expected = -1) {
   const auto v = hdf5::read_integers(g, file, name, expected);
+  for (std::int64_t i : v)
+    if (i < std::numeric_limits<T>::min() || i > std::numeric_limits<T>::max())
+      throw InputError(file + ": dataset '" + name + "' holds " + std::to_string(i) +
+                       ", beyond its type's range; the file is damaged");
   return std::vector<T>(v.begin(), v.end());
 }
 
@@ -307,6 +353,12 @@ std::array<DofControl, 6> dof_controls(const std::vector<double>& v, const std::
                        "; the file is damaged");
     dof[k] = {static_cast<DofMode>(int(mode)), v[5 * k + 1], v[5 * k + 2], v[5 * k + 3],
               v[5 * k + 4]};
+    if (!std::all_of(v.begin() + 5 * k + 1, v.begin() + 5 * k + 5,
+                     [](double a) { return std::isfinite(a) && a > -1e300; }) ||
+        dof[k].gain < 0 || dof[k].max_speed < 0 || dof[k].relaxation < 0)
+      throw InputError(file +
+                       ": a mesh's dof control holds a value out of range (not finite, "
+                       "or a negative gain, speed limit or relaxation); the file is damaged");
   }
   return dof;
 }
@@ -404,12 +456,7 @@ namespace {
 
 // A count written as an attribute (the number of item groups).
 std::size_t count_of(hid_t g, const std::string& file) {
-  const std::string n = hdf5::read_string_attribute(g, file, "count");
-  try {
-    return std::stoul(n);
-  } catch (const std::exception&) {
-    throw InputError(file + ": a group's count is '" + n + "'; the file is damaged");
-  }
+  return static_cast<std::size_t>(hdf5::read_integer_attribute(g, file, "count", 0, 1 << 20));
 }
 
 }  // namespace

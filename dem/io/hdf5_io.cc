@@ -1,6 +1,9 @@
 #include "dem/io/hdf5_io.h"
 
+#include <algorithm>
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
 
@@ -23,7 +26,11 @@ hid_t open_for_reading(const std::string& path, const std::string& what) {
 }
 
 hid_t create_file(const std::string& path) {
-  const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  // The 1.10 file format checksums the superblock and the object headers, so that a damaged file
+  // is refused when opened rather than read as numbers (the datasets carry their own checksums).
+  Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access list");
+  H5Pset_libver_bounds(access, H5F_LIBVER_V110, H5F_LIBVER_LATEST);
+  const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access);
   if (f < 0) throw std::runtime_error("HDF5: create " + path + " failed (check the folder)");
   return f;
 }
@@ -48,11 +55,32 @@ hid_t create_group(hid_t parent, const char* name) {
   return g;
 }
 
+namespace {
+
+// A group, dataset or attribute that exists but cannot be opened or read: HDF5 found its header
+// or data damaged (their checksums fail).
+InputError damaged(const std::string& file, const std::string& what) {
+  return InputError(file + ": " + what +
+                    " cannot be read (its checksum fails: the file is damaged); valid: a file "
+                    "as trackbed wrote it");
+}
+
+// Opens a dataset of a file being read.
+hid_t open_dataset(hid_t parent, const std::string& file, const char* name) {
+  if (!exists(parent, name))
+    throw InputError(file + ": dataset '" + name + "' is missing; valid: a trackbed file");
+  const hid_t set = H5Dopen2(parent, name, H5P_DEFAULT);
+  if (set < 0) throw damaged(file, std::string("dataset '") + name + "'");
+  return set;
+}
+
+}  // namespace
+
 hid_t open_group(hid_t parent, const std::string& file, const char* name) {
   if (!exists(parent, name))
     throw InputError(file + ": group '" + name + "' is missing; valid: a trackbed file");
   const hid_t g = H5Gopen2(parent, name, H5P_DEFAULT);
-  if (g < 0) throw std::runtime_error(std::string("HDF5: open group ") + name + " failed");
+  if (g < 0) throw damaged(file, std::string("group '") + name + "'");
   return g;
 }
 
@@ -63,7 +91,15 @@ void write_array(hid_t parent, const char* name, hid_t type, const T* data, hsiz
                  hsize_t cols) {
   const hsize_t dims[2] = {rows, cols};
   Handle space(H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr), H5Sclose, "dataspace");
-  Handle set(H5Dcreate2(parent, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose,
+  // A Fletcher-32 checksum on every chunk: a flipped bit makes the read fail, never a wrong
+  // number. Chunks of up to 65,536 rows (a chunk needs rows > 0; an empty dataset has no data).
+  Handle create(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "dataset creation list");
+  if (rows > 0) {
+    const hsize_t chunk[2] = {std::min<hsize_t>(rows, 65536), cols};
+    H5Pset_chunk(create, cols == 1 ? 1 : 2, chunk);
+    H5Pset_fletcher32(create);
+  }
+  Handle set(H5Dcreate2(parent, name, type, space, H5P_DEFAULT, create, H5P_DEFAULT), H5Dclose,
              std::string("create ") + name);
   if (rows > 0 && H5Dwrite(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
     throw std::runtime_error(std::string("HDF5: write ") + name + " failed");
@@ -72,9 +108,7 @@ void write_array(hid_t parent, const char* name, hid_t type, const T* data, hsiz
 template <class T>
 std::vector<T> read_array(hid_t parent, const std::string& file, const char* name, hid_t type,
                           long expected) {
-  if (!exists(parent, name))
-    throw InputError(file + ": dataset '" + name + "' is missing; valid: a trackbed file");
-  Handle set(H5Dopen2(parent, name, H5P_DEFAULT), H5Dclose, std::string("open ") + name);
+  Handle set(open_dataset(parent, file, name), H5Dclose, std::string("open ") + name);
   Handle space(H5Dget_space(set), H5Sclose, "dataspace");
   const hssize_t n = H5Sget_simple_extent_npoints(space);
   if (expected >= 0 && n != expected)
@@ -83,7 +117,7 @@ std::vector<T> read_array(hid_t parent, const std::string& file, const char* nam
                      "; valid: a file written for the same model");
   std::vector<T> out(n);
   if (n > 0 && H5Dread(set, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
-    throw InputError(file + ": cannot read dataset '" + name + "'");
+    throw damaged(file, std::string("dataset '") + name + "'");
   return out;
 }
 
@@ -113,9 +147,7 @@ bool exists(hid_t parent, const char* name) {
 }
 
 long dataset_size(hid_t parent, const std::string& file, const char* name) {
-  if (!exists(parent, name))
-    throw InputError(file + ": dataset '" + name + "' is missing; valid: a trackbed file");
-  Handle set(H5Dopen2(parent, name, H5P_DEFAULT), H5Dclose, std::string("open ") + name);
+  Handle set(open_dataset(parent, file, name), H5Dclose, std::string("open ") + name);
   Handle space(H5Dget_space(set), H5Sclose, "dataspace");
   return static_cast<long>(H5Sget_simple_extent_npoints(space));
 }
@@ -173,7 +205,9 @@ void write_string_attribute(hid_t object, const char* name, const std::string& v
 std::string read_string_attribute(hid_t object, const std::string& file, const char* name) {
   if (H5Aexists(object, name) <= 0)
     throw InputError(file + ": attribute '" + name + "' is missing; valid: a trackbed file");
-  Handle attr(H5Aopen(object, name, H5P_DEFAULT), H5Aclose, std::string("open ") + name);
+  const hid_t opened = H5Aopen(object, name, H5P_DEFAULT);
+  if (opened < 0) throw damaged(file, std::string("attribute '") + name + "'");
+  Handle attr(opened, H5Aclose, std::string("open ") + name);
   Handle type(H5Aget_type(attr), H5Tclose, "attribute type");
   if (H5Tget_class(type) != H5T_STRING)
     throw InputError(file + ": attribute '" + name + "' is not a string");
@@ -185,6 +219,19 @@ std::string read_string_attribute(hid_t object, const std::string& file, const c
   if (H5Aread(attr, memtype, value.data()) < 0)
     throw InputError(file + ": cannot read attribute '" + name + "'");
   value.erase(value.find_last_not_of('\0') + 1);
+  return value;
+}
+
+long read_integer_attribute(hid_t object, const std::string& file, const char* name, long lo,
+                            long hi) {
+  const std::string text = read_string_attribute(object, file, name);
+  char* end = nullptr;
+  errno = 0;
+  const long value = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || errno != 0 || value < lo || value > hi)
+    throw InputError(file + ": attribute '" + name + "' is '" + excerpt(text) +
+                     "'; the file is damaged (valid: an integer in [" + std::to_string(lo) + ", " +
+                     std::to_string(hi) + "])");
   return value;
 }
 

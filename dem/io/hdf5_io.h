@@ -68,6 +68,9 @@ std::vector<std::int64_t> read_integers(hid_t parent, const std::string& file, c
 void write_string_attribute(hid_t object, const char* name, const std::string& value);
 // InputError if the attribute is missing.
 std::string read_string_attribute(hid_t object, const std::string& file, const char* name);
+// A string attribute holding an integer in [lo, hi]; InputError naming the file otherwise.
+long read_integer_attribute(hid_t object, const std::string& file, const char* name, long lo,
+                            long hi);
 // Whether `file`'s attribute `format` is `format` (false if it has none): the check by which
 // each reader refuses another kind of file, or another version.
 bool has_format(hid_t file, const std::string& path, const std::string& format);

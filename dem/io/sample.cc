@@ -1,5 +1,11 @@
 #include "dem/io/sample.h"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <limits>
+#include <unordered_map>
+
 #include "common/input_error.h"
 #include "dem/io/hdf5_io.h"
 
@@ -105,6 +111,10 @@ Particles read_particles(hid_t file, const std::string& path, Sample& s) {
   const auto inertia = hdf5::read_vectors(g, path, "principal_inertia", nb);
   const auto id = hdf5::read_integers(g, path, "id", nb);
   const auto clump = hdf5::read_integers(g, path, "is_clump", nb);
+  for (std::int64_t k : clump)
+    if (k != 0 && k != 1)
+      throw InputError(path + ": bodies/is_clump holds " + std::to_string(k) +
+                       "; the file is damaged (valid: 0 or 1)");
   const auto material = hdf5::read_integers(g, path, "material", nb);
   const auto first = hdf5::read_integers(g, path, "first_element", nb + 1);
   const auto shape = hdf5::read_integers(g, path, "shape", nb);
@@ -116,11 +126,23 @@ Particles read_particles(hid_t file, const std::string& path, Sample& s) {
   const auto offset = hdf5::read_vectors(e, path, "offset", ne);
   const auto radius = hdf5::read_doubles(e, path, "radius", ne);
   const auto el_material = hdf5::read_integers(e, path, "material", ne);
+  // Indices are narrowed to int below: out-of-range values are refused first.
+  const long nmat = static_cast<long>(s.materials.size());
+  for (const auto* list : {&material, &el_material})
+    for (std::int64_t m : *list)
+      if (m < 0 || m >= nmat)
+        throw InputError(path + ": a material index is " + std::to_string(m) + " of " +
+                         std::to_string(nmat) + " materials; the file is damaged");
 
   Particles p;
   for (long b = 0; b < nb; ++b) {
     if (first[b] < 0 || first[b] >= first[b + 1] || first[b + 1] > ne)
       throw InputError(path + ": bodies/first_element is not increasing; the file is damaged");
+    // add_body_with_elements normalises: a damaged orientation is refused before it does.
+    if (!(std::abs(q[b].norm() - 1) < 1e-6))
+      throw InputError(path + ": body " + std::to_string(b) +
+                       " has an orientation quaternion of norm " + std::to_string(q[b].norm()) +
+                       "; the file is damaged");
     std::vector<SphereShape> elements;
     for (long k = first[b]; k < first[b + 1]; ++k) elements.push_back({offset[k], radius[k]});
     const int i =
@@ -148,7 +170,11 @@ void read_walls(hid_t file, const std::string& path, Sample& s) {
   }
 
   hdf5::Handle m(hdf5::open_group(file, path, "meshes"), H5Gclose, "group meshes");
-  const int count = std::stoi(hdf5::read_string_attribute(m, path, "count"));
+  const std::string count_text = hdf5::read_string_attribute(m, path, "count");
+  const int count = count_text == "0" ? 0 : std::atoi(count_text.c_str());
+  if (!(count > 0 && count <= 1024) && count_text != "0")
+    throw InputError(path + ": meshes/count is '" + excerpt(count_text) +
+                     "'; the file is damaged (valid: 0 to 1024)");
   for (int k = 0; k < count; ++k) {
     const std::string name = std::to_string(k);
     hdf5::Handle g2(hdf5::open_group(m, path, name.c_str()), H5Gclose, "group mesh");
@@ -174,7 +200,15 @@ void read_walls(hid_t file, const std::string& path, Sample& s) {
     b.mass = hdf5::read_doubles(g2, path, "mass", 1)[0];
     const auto inertia = hdf5::read_doubles(g2, path, "inertia", 9);
     b.inertia = Eigen::Map<const Mat3>(inertia.data());
-    b.material = static_cast<int>(hdf5::read_integers(g2, path, "material", 1)[0]);
+    const std::int64_t material = hdf5::read_integers(g2, path, "material", 1)[0];
+    if (!(material >= 0 && material < static_cast<std::int64_t>(s.materials.size())) ||
+        !std::all_of(pose.begin(), pose.end(), [](double a) { return std::isfinite(a); }) ||
+        !(std::abs(b.q.norm() - 1) < 1e-6) || !(b.mass >= 0 && std::isfinite(b.mass)) ||
+        !b.inertia.allFinite())
+      throw InputError(path + ": mesh '" + excerpt(b.name) +
+                       "' has a material index, pose, mass or inertia out of range; the file is "
+                       "damaged");
+    b.material = static_cast<int>(material);
     b.local = mesh;
     b.world = mesh;
     b.update_world_mesh();
@@ -195,10 +229,23 @@ ContactState read_contacts(hid_t file, const std::string& path) {
                        ps[k],
                        pr[k]});
   const auto wk = hdf5::read_integers(g, path, "wall_keys");
+  // Walls, slots and element ranks are ints >= 0 (a body id may be any int64).
+  for (const auto* keys : {&pk, &wk})
+    for (std::size_t k = 0; k < keys->size(); ++k)
+      if ((keys == &pk ? k % 2 == 1 : k % 4 != 2) &&
+          ((*keys)[k] < 0 || (*keys)[k] > std::numeric_limits<int>::max()))
+        throw InputError(path + ": contacts/" + (keys == &pk ? "pair_keys" : "wall_keys") +
+                         " holds " + std::to_string((*keys)[k]) +
+                         " where an index >= 0 belongs; the file is damaged");
   const long nw = static_cast<long>(wk.size() / 4);
   const auto ws = hdf5::read_vectors(g, path, "wall_shear", nw);
   const auto wr = hdf5::read_vectors(g, path, "wall_roll", nw);
   const auto wn = hdf5::read_vectors(g, path, "wall_normal", nw);
+  auto finite = [](const std::vector<Vec3>& v) {
+    return std::all_of(v.begin(), v.end(), [](const Vec3& a) { return a.allFinite(); });
+  };
+  if (!finite(ps) || !finite(pr) || !finite(ws) || !finite(wr) || !finite(wn))
+    throw InputError(path + ": a contact spring or normal is not finite; the file is damaged");
   for (long k = 0; k < nw; ++k)
     c.walls.push_back({static_cast<int>(wk[4 * k]),
                        static_cast<int>(wk[4 * k + 1]),
@@ -207,6 +254,29 @@ ContactState read_contacts(hid_t file, const std::string& path) {
                        wr[k],
                        wn[k]});
   return c;
+}
+
+// Whether the saved contacts name elements and walls of this sample ("" when they all do).
+std::string contacts_defect(const Sample& s) {
+  const Particles& p = s.particles;
+  std::unordered_map<std::int64_t, int> body_of_id;
+  for (int b = 0; b < p.num_bodies(); ++b) body_of_id[p.id[b]] = b;
+  auto known = [&](const ElementKey& k) {
+    const auto it = body_of_id.find(k.body_id);
+    return it != body_of_id.end() && k.rank >= 0 &&
+           k.rank < p.first_element[it->second + 1] - p.first_element[it->second];
+  };
+  for (const SavedPairContact& c : s.contacts.pairs)
+    if (!known(c.i) || !known(c.j))
+      return "a contact names element " + std::to_string(c.i.rank) + " of body id " +
+             std::to_string(c.i.body_id) + " or " + std::to_string(c.j.rank) + " of " +
+             std::to_string(c.j.body_id) + ", not in the sample";
+  const int walls = static_cast<int>(s.planes.size() + s.meshes.size());
+  for (const SavedWallContact& c : s.contacts.walls)
+    if (!known(c.element) || c.wall < 0 || c.wall >= walls || c.slot < 0)
+      return "a wall contact names wall " + std::to_string(c.wall) + ", slot " +
+             std::to_string(c.slot) + " or an element not in the sample";
+  return "";
 }
 
 }  // namespace
@@ -240,16 +310,29 @@ Sample read_sample(const std::string& path) {
   s.materials = hdf5::read_strings(file, path, "materials");
   for (const auto& line : hdf5::read_strings(file, path, "info")) {
     const auto eq = line.find(" = ");
-    if (eq != std::string::npos) s.info.emplace_back(line.substr(0, eq), line.substr(eq + 3));
+    if (eq == std::string::npos)
+      throw InputError(path + ": info line '" + excerpt(line) +
+                       "' is not 'key = value'; the file is damaged");
+    s.info.emplace_back(line.substr(0, eq), line.substr(eq + 3));
   }
   s.particles = read_particles(file, path, s);
   read_walls(file, path, s);
   s.contacts = read_contacts(file, path);
   const int nmat = static_cast<int>(s.materials.size());
-  for (int m : s.particles.material)
-    if (m < 0 || m >= nmat)
-      throw InputError(path + ": an element has material index " + std::to_string(m) + " of " +
-                       std::to_string(nmat) + " materials; the file is damaged");
+  std::string defect = s.particles.defect(nmat);
+  for (std::size_t b = 0; b < s.shape.size() && defect.empty(); ++b)
+    if (s.shape[b] < -1 || s.shape[b] >= static_cast<int>(s.shapes.size()) ||
+        !(s.sieve_size[b] > 0 && std::isfinite(s.sieve_size[b])))
+      defect = "body " + std::to_string(b) + " has a shape index or sieve size out of range";
+  for (const PlaneWall& w : s.planes)
+    if (defect.empty() &&
+        (!w.point.allFinite() || !w.velocity.allFinite() ||
+         !(std::abs(w.normal.norm() - 1) < 1e-6) || w.material < 0 || w.material >= nmat))
+      defect = "plane wall '" + w.name +
+               "' has a non-finite point or velocity, a normal not of "
+               "unit length or a material index out of range";
+  if (defect.empty()) defect = contacts_defect(s);
+  if (!defect.empty()) throw InputError(path + ": " + defect + "; the file is damaged");
   return s;
 }
 

@@ -92,6 +92,20 @@ void add_random_packing(const RandomPackingSpec& spec, const MaterialTable& mate
   if (!((spec.upper - spec.lower).minCoeff() > 0))
     throw InputError("particle generator: region upper corner must exceed the lower corner");
 
+  // Random sequential addition jams at a solid fraction of about 0.35: bodies whose smallest
+  // spheres alone would fill half the region cannot be placed, and are refused before their
+  // arrays are allocated (a count in the hundreds of millions would exhaust the memory first).
+  const double region = (spec.upper - spec.lower).prod();
+  const double smallest = 4.0 / 3.0 * M_PI * std::pow(spec.radius_min, 3);
+  if (spec.count * smallest > 0.5 * region) {
+    std::ostringstream s;
+    s << "particle generator: number = " << spec.count << " bodies of radius >= " << spec.radius_min
+      << " m would fill " << spec.count * smallest / region
+      << " of the region's volume; valid: at most " << std::floor(0.5 * region / smallest)
+      << " (random addition reaches solid fractions of about 0.35)";
+    throw InputError(s.str());
+  }
+
   std::mt19937_64 rng(spec.seed);
   std::uniform_real_distribution<double> u01(0.0, 1.0);
   const double ratio = spec.clump_template ? spec.clump_template->bounding_radius /

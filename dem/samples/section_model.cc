@@ -1,6 +1,7 @@
 #include "dem/samples/section_model.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -260,12 +261,22 @@ std::vector<std::pair<std::string, std::string>> SectionModel::info() const {
 
 namespace {
 
+// A finite number of an info line; InputError naming the line when it is not one.
+double info_text_number(const std::string& key, const std::string& text) {
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0' || !std::isfinite(v))
+    throw InputError("sample: info line '" + key + "' holds '" + excerpt(text) +
+                     "'; valid: a number, as 'trackbed build-sample' writes it");
+  return v;
+}
+
 double info_number(const Sample& s, const std::string& key) {
   const std::string v = s.info_value(key);
   if (v.empty())
     throw InputError("sample: info line '" + key +
                      "' is missing; valid: a sample written by 'trackbed build-sample'");
-  return std::stod(v);
+  return info_text_number(key, v);
 }
 
 std::string number_list(const std::vector<double>& v) {
@@ -279,7 +290,7 @@ std::vector<double> info_numbers(const Sample& s, const std::string& key) {
   std::string text = s.info_value(key) + ",";
   for (std::size_t start = 0, comma; (comma = text.find(',', start)) != std::string::npos;
        start = comma + 1)
-    if (comma > start) out.push_back(std::stod(text.substr(start, comma - start)));
+    if (comma > start) out.push_back(info_text_number(key, text.substr(start, comma - start)));
   return out;
 }
 

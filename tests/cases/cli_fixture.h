@@ -13,6 +13,7 @@
 #include <regex>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -127,7 +128,7 @@ class Cli : public ::testing::Test {
     return text + extra;
   }
   // Checks the one-line error: exit code 2, a single line on stderr containing every `parts`.
-  void expect_error(const Result& r, std::initializer_list<std::string> parts) {
+  void expect_error(const Result& r, const std::vector<std::string>& parts) {
     EXPECT_EQ(r.code, 2) << r.err;
     std::string line = r.err;
     while (!line.empty() && line.back() == '\n') line.pop_back();

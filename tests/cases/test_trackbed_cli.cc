@@ -201,7 +201,6 @@ TEST_F(Cli, BadPushTest) {
                                           "each point differs from the one before"});
 }
 
-// A coupled run's bad input: one line naming the parameter and what is valid, nothing written.
 TEST_F(Cli, EmptyOutputFolderIsRefused) {
   const fs::path f = write("case.prm", small_case());
   expect_error(run("run " + f.string() + " --output ''"), {"--output ''", "valid: a folder"});
@@ -209,6 +208,43 @@ TEST_F(Cli, EmptyOutputFolderIsRefused) {
   expect_error(run("run " + g.string()), {"output/folder is empty", "valid: a folder"});
 }
 
+// Inputs that once crashed, hung, ended with a stack trace or ran as if all were well: each is
+// refused with one line naming the file and the parameter.
+TEST_F(Cli, HostileCaseFilesAreRefused) {
+  write("block.stl",
+        "solid b\n facet normal 0 0 1\n  outer loop\n   vertex 0 0 0\n   vertex 1 0 0\n"
+        "   vertex 0 1 0\n  endloop\n endfacet\nendsolid b\n");
+  write("afile", "not a folder\n");
+  fs::create_directories(dir_ / "afolder");
+  const std::string mesh = "subsection meshes\n  set number of meshes = 1\n  subsection mesh 0\n";
+  const std::pair<std::string, std::vector<std::string>> cases[] = {
+      {mesh + "    set file = block.stl\n    set scale = 1e300\n  end\nend\n",
+       {"meshes/mesh0", "after scale and translation", "within 1e6 m"}},
+      {"include afolder\n", {"include afolder", "not a regular file"}},
+      {"include /dev/zero\n", {"include /dev/zero", "not a regular file"}},
+      {"subsection output\n  set folder = " + (dir_ / "afile").string() + "\nend\n",
+       {"output/folder", "cannot be created", "valid: a folder"}},
+      {"subsection particles\n  subsection generator\n    set number = 1000000000\n  end\nend\n",
+       {"number = 1000000000", "valid: at most"}},
+      {"subsection materials\n  subsection material 0\n    set rolling friction = 5e-324\n"
+       "  end\nend\n",
+       {"case.prm", "rolling friction", "valid: a number of normal size"}},
+      {"subsection simulation\n  set number of steps = 0\n  set end time = 1e30\nend\n",
+       {"simulation/end time = 1e+30", "at most 1e12 steps"}},
+      {mesh + "    set name = a,\"b\n  end\nend\n", {"meshes/mesh 0/name", "valid: 1 to 64"}},
+      {"subsection simulation\n  set end time = " + std::string(100000, '1') + "x\nend\n",
+       {"end time", "(100001 characters)"}},
+  };
+  for (const auto& [extra, parts] : cases) {
+    const fs::path f = write("case.prm", small_case(extra));
+    SCOPED_TRACE(extra.substr(0, 120));
+    const Result r = run("run " + f.string());
+    expect_error(r, parts);
+    EXPECT_LT(r.err.size(), 1000u);
+  }
+}
+
+// A coupled run's bad input: one line naming the parameter and what is valid, nothing written.
 TEST_F(Cli, BadCoupledRun) {
   const fs::path a = write("a.prm", small_case());
   expect_error(run("run " + a.string() + " --mode coupled"),
