@@ -25,6 +25,8 @@
 #include "cases/runs/run_checkpoint.h"
 #include "cases/runs/sample_checkpoint.h"
 #include "cases/runs/sample_run.h"
+#include "cases/runs/start_record.h"
+#include "common/absolute_path.h"
 #include "common/input_error.h"
 #include "dem/io/sample.h"
 #include "dem/samples/section_model.h"
@@ -44,7 +46,7 @@ const char* const kUsage =
     "summary.txt and plot.png. The default case is cases/default.prm.\n"
     "resume continues a run or a sample build that was interrupted (Ctrl-C, SIGTERM, a crash)\n"
     "from the last checkpoint in its results folder DIR, and ends it as the uninterrupted one\n"
-    "would have.\n"
+    "would have; one stopped before its first checkpoint starts again from the beginning.\n"
     "build-sample builds a ballast sample of a track section (deposition, compaction, sleeper\n"
     "seating, balls converted to clumps in a zone) and writes sample.h5 for cases to load.\n"
     "  --mode      override 'mode' (dem: DEM with rigid walls; coupled: the bed on an FE\n"
@@ -178,6 +180,72 @@ int resumed_threads(int asked, int saved) {
   return threads;
 }
 
+// Runs `start` (a fresh run or build in `folder`, which begin_fresh `created` or not); bad input
+// found while it sets up leaves neither a start record (there is nothing to start anew) nor a
+// folder it created.
+template <class Start>
+int abandoned_on_input_error(const std::string& folder, bool created, Start&& start) {
+  try {
+    return start();
+  } catch (const trackbed::InputError&) {
+    trackbed::cases::abandon_fresh(folder, created);
+    throw;
+  }
+}
+
+// Starts a run afresh in its results folder (the first process of a coupled launch; the others
+// serve the FE subgrade).
+int start_run(trackbed::cases::CaseParameters prm, const StartMpi& start_mpi) {
+  using namespace trackbed::cases;
+  if (prm.mode == "coupled") {
+    if (start_mpi() > 0) return serve_subgrade(prm);
+  } else {
+    require_one_process("a DEM run (mode = dem)");
+  }
+  const std::string folder = prm.output_folder;
+  const bool created = begin_fresh(
+      folder, {"run", trackbed::absolute_path(prm.file), prm.fingerprint, prm.mode, prm.threads},
+      prm.file + ": output/folder = " + folder);
+  return abandoned_on_input_error(folder, created, [&] { return DemRun(std::move(prm)).run(); });
+}
+
+// Starts a sample build afresh in its results folder.
+int start_build(trackbed::cases::SampleParameters prm) {
+  using namespace trackbed::cases;
+  require_one_process("a sample build");
+  const std::string folder = prm.output_folder;
+  const bool created = begin_fresh(
+      folder, {"build-sample", trackbed::absolute_path(prm.file), prm.fingerprint, "", prm.threads},
+      prm.file + ": output/folder = " + folder);
+  return abandoned_on_input_error(folder, created, [&] { return SampleRun(std::move(prm)).run(); });
+}
+
+// A run or build stopped before its first checkpoint (its start record `r`, no checkpoint):
+// started again from the beginning, in the same folder, from the same unchanged parameter file.
+int start_anew(const std::string& dir, const trackbed::cases::StartRecord& r, int threads,
+               const StartMpi& start_mpi) {
+  using namespace trackbed::cases;
+  const std::string record = (std::filesystem::path(dir) / kStartFile).string();
+  const bool build = r.command == "build-sample";
+  require_file(record, r.file, build ? "sample file" : "case file");
+  if (launch_rank() == 0)
+    std::cout << "trackbed: " << dir << " was stopped before its first checkpoint: starting "
+              << r.file << " anew" << std::endl;
+  if (build) {
+    SampleParameters prm = read_sample_file(r.file);
+    require_unchanged(record, r.file, r.fingerprint, prm.fingerprint);
+    prm.output_folder = dir;
+    prm.threads = threads > 0 ? threads : r.threads;
+    return start_build(std::move(prm));
+  }
+  CaseParameters prm = read_case_file(r.file);
+  require_unchanged(record, r.file, r.fingerprint, prm.fingerprint);
+  prm.output_folder = dir;
+  prm.mode = r.mode;
+  prm.threads = threads > 0 ? threads : r.threads;
+  return start_run(std::move(prm), start_mpi);
+}
+
 int resume(const std::vector<std::string>& args, const StartMpi& start_mpi) {
   namespace fs = std::filesystem;
   using namespace trackbed::cases;
@@ -202,10 +270,11 @@ int resume(const std::vector<std::string>& args, const StartMpi& start_mpi) {
       return fail(dir + ": the run finished; there is nothing to resume");
     if (fs::is_regular_file(fs::path(dir) / "sample.h5"))
       return fail(dir + ": the sample build finished; there is nothing to resume");
+    if (const auto record = read_start_record(dir))
+      return start_anew(dir, *record, threads, start_mpi);
     return fail(path +
                 ": no such file; valid: the results folder of a run or a sample build "
-                "interrupted after its first checkpoint (output/checkpoint interval, and on "
-                "Ctrl-C or SIGTERM)");
+                "stopped after it started");
   }
   if (is_sample_checkpoint(path)) {
     require_one_process("a sample build");
@@ -243,13 +312,11 @@ int build_sample(const std::vector<std::string>& args) {
   }
   if (args.size() < 2)
     return fail("'build-sample' needs a sample file: trackbed build-sample SAMPLE.prm");
-  require_one_process("a sample build");
   trackbed::cases::SampleParameters prm = trackbed::cases::read_sample_file(args[1]);
   std::string unused;
   const std::string bad = parse_options(args, false, unused, prm.threads, prm.output_folder);
   if (!bad.empty()) return fail(bad);
-  trackbed::cases::SampleRun run(std::move(prm));
-  return run.run();
+  return start_build(std::move(prm));
 }
 
 }  // namespace
@@ -260,13 +327,7 @@ int run(const std::vector<std::string>& args, const StartMpi& start_mpi) {
   trackbed::cases::CaseParameters prm = trackbed::cases::read_case_file(args[1]);
   const std::string bad = parse_options(args, true, prm.mode, prm.threads, prm.output_folder);
   if (!bad.empty()) return fail(bad);
-  if (prm.mode == "coupled") {
-    if (start_mpi() > 0) return serve_subgrade(prm);
-  } else {
-    require_one_process("a DEM run (mode = dem)");
-  }
-  trackbed::cases::DemRun dem_run(std::move(prm));
-  return dem_run.run();
+  return start_run(std::move(prm), start_mpi);
 }
 
 int main(int argc, char** argv) {

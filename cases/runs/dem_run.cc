@@ -14,6 +14,8 @@
 
 #include "cases/app/stop_signal.h"
 #include "cases/reports/report_support.h"
+#include "cases/runs/start_record.h"
+#include "common/absolute_path.h"
 #include "common/input_error.h"
 #include "common/number_text.h"
 #include "common/output_folder.h"
@@ -234,8 +236,6 @@ void DemRun::start_fresh() {
   open_outputs();
   remove_outputs_after(-1);  // an earlier run's frames and snapshots in this folder
   if (subgrade_) subgrade_->start(*sim_, formation_mesh_, sleeper_mesh(), out_);
-  // and its checkpoint: were this run stopped before its first, resume must not go back to it.
-  fs::remove(fs::path(out_) / kCheckpointFile);
 
   const auto& p = sim_->particles();
   std::cout << "trackbed: " << p.num_bodies() << " bodies (" << p.num_clumps() << " clumps), "
@@ -337,7 +337,7 @@ int DemRun::loop_and_finish() {
 
 void DemRun::write_checkpoint() {
   RunCheckpoint c;
-  c.case_file = fs::absolute(prm_.file).lexically_normal().string();
+  c.case_file = absolute_path(prm_.file);
   c.case_fingerprint = prm_.fingerprint;
   c.version = TRACKBED_VERSION;
   c.threads = omp_get_max_threads();
@@ -443,7 +443,10 @@ void DemRun::finish(const std::string& status) {
   write_summary(status);
   if (prm_.plot && finished) make_plot();
   // A finished run needs no checkpoint (and it is the largest file of the folder).
-  if (finished) fs::remove(fs::path(out_) / kCheckpointFile);
+  if (finished) {
+    fs::remove(fs::path(out_) / kCheckpointFile);
+    remove_start_record(out_);
+  }
   std::cout << "trackbed: results in " << out_ << (finished ? "" : " (" + status + ")")
             << std::endl;
 }
@@ -497,8 +500,9 @@ void DemRun::write_summary(const std::string& status) {
   }
 
   dem::AtomicFile json(out_ + "/summary.json");
-  json.stream() << std::setprecision(10) << "{\n  \"case\": \"" << json_escape(prm_.file)
-                << "\",\n  \"status\": \"" << json_escape(status) << "\"";
+  json.stream() << std::setprecision(10) << "{\n  \"case\": \""
+                << json_escape(absolute_path(prm_.file)) << "\",\n  \"status\": \""
+                << json_escape(status) << "\"";
   for (const auto& i : items) {
     json.stream() << ",\n  \"" << i.key << "\": ";
     if (std::isfinite(i.value))
@@ -510,7 +514,7 @@ void DemRun::write_summary(const std::string& status) {
   json.commit();
 
   dem::AtomicFile txt(out_ + "/summary.txt");
-  txt.stream() << "trackbed summary: " << prm_.file << " (" << status << ")\n";
+  txt.stream() << "trackbed summary: " << absolute_path(prm_.file) << " (" << status << ")\n";
   for (const auto& i : items)
     txt.stream() << "  " << std::left << std::setw(40) << i.label << std::right << std::setw(16)
                  << std::setprecision(6) << i.value << " " << i.unit << "\n";

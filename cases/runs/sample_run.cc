@@ -15,6 +15,8 @@
 #include "cases/app/stop_signal.h"
 #include "cases/reports/report_support.h"
 #include "cases/runs/run_checkpoint.h"
+#include "cases/runs/start_record.h"
+#include "common/absolute_path.h"
 #include "common/input_error.h"
 #include "common/number_text.h"
 #include "common/output_folder.h"
@@ -168,7 +170,7 @@ void SampleRun::at_check(long step, const PartState& part) {
 
 void SampleRun::write_checkpoint(const PartState& part) {
   SampleCheckpoint c;
-  c.sample_file = fs::absolute(prm_.file).lexically_normal().string();
+  c.sample_file = absolute_path(prm_.file);
   c.fingerprint = prm_.fingerprint;
   c.base_digest = base_digest_;
   c.version = TRACKBED_VERSION;
@@ -204,9 +206,6 @@ int SampleRun::build(SampleCheckpoint* from) {
   if (prm_.threads > 0) omp_set_num_threads(prm_.threads);
   out_ = prm_.output_folder;
   create_output_folders(out_, {"history"}, prm_.file + ": output/folder = " + out_);
-  // A fresh build drops an earlier build's checkpoint: were it stopped before its first, resume
-  // must not go back to the earlier one.
-  if (!from) fs::remove(fs::path(out_) / kCheckpointFile);
   dem::BuildCheckpoint* in_ball_build = from && from->in_ball_build ? &from->ball_build : nullptr;
   dem::ConversionCheckpoint* in_conversion =
       from && !from->in_ball_build ? &from->conversion : nullptr;
@@ -237,6 +236,7 @@ int SampleRun::build(SampleCheckpoint* from) {
   }
   // A finished build needs no checkpoint (and it is the largest file of the folder).
   fs::remove(fs::path(out_) / kCheckpointFile);
+  remove_start_record(out_);
   std::cout << "trackbed: results in " << out_ << std::endl;
   return 0;
 }
@@ -388,7 +388,7 @@ void SampleRun::write_summary(const dem::Sample& sample, const dem::Simulation& 
   for (const auto& [k, v] : notes_) items.push_back({k, k, "", v});
 
   dem::AtomicFile json(out_ + "/summary.json");
-  json.stream() << "{\n  \"sample_file\": \"" << json_escape(prm_.file) << "\"";
+  json.stream() << "{\n  \"sample_file\": \"" << json_escape(absolute_path(prm_.file)) << "\"";
   for (const auto& [key, label, unit, value] : items)
     json.stream() << ",\n  \"" << key << "\": " << value;
   json.stream() << ",\n  \"stages\": [";
@@ -408,7 +408,7 @@ void SampleRun::write_summary(const dem::Sample& sample, const dem::Simulation& 
 
   dem::AtomicFile txt(out_ + "/summary.txt");
   auto& t = txt.stream();
-  t << "trackbed sample: " << prm_.file << "\n";
+  t << "trackbed sample: " << absolute_path(prm_.file) << "\n";
   for (const auto& [key, label, unit, value] : items) {
     std::string v = value;
     if (!v.empty() && v.front() == '"') v = v.substr(1, v.size() - 2);

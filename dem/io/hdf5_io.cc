@@ -4,7 +4,9 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
 
 #include "common/durable_rename.h"
@@ -25,32 +27,102 @@ hid_t open_for_reading(const std::string& path, const std::string& what) {
   return file;
 }
 
-hid_t create_file(const std::string& path) {
-  // The 1.10 file format checksums the superblock and the object headers, so that a damaged file
-  // is refused when opened rather than read as numbers (the datasets carry their own checksums).
+namespace {
+
+// A file built in memory (HDF5's core driver without a backing store), its bytes taken as the
+// driver frees them when the file is closed: HDF5 never writes to the disk itself, so a full disk
+// or a vanished folder is one failed write of ours, not a failed flush that leaves HDF5's state
+// broken (its exit handler then crashed on the half-closed file). The image is taken at the close,
+// not with H5Fget_file_image, whose copy of a 1.8-format superblock keeps a stale checksum.
+struct FileImage {
+  std::size_t size = 0;     // of the driver's buffer
+  std::vector<char> bytes;  // the file, once closed
+};
+
+void* image_malloc(std::size_t size, H5FD_file_image_op_t, void* image) {
+  static_cast<FileImage*>(image)->size = size;
+  return std::calloc(size, 1);
+}
+
+void* image_memcpy(void* to, const void* from, std::size_t size, H5FD_file_image_op_t, void*) {
+  return std::memcpy(to, from, size);
+}
+
+// Grows or shrinks the buffer; new bytes are zero, so the same file gives the same bytes.
+void* image_realloc(void* buffer, std::size_t size, H5FD_file_image_op_t, void* image) {
+  FileImage& f = *static_cast<FileImage*>(image);
+  char* grown = static_cast<char*>(std::realloc(buffer, size));
+  if (grown && size > f.size) std::memset(grown + f.size, 0, size - f.size);
+  if (grown) f.size = size;
+  return grown;
+}
+
+herr_t image_free(void* buffer, H5FD_file_image_op_t op, void* image) {
+  FileImage& f = *static_cast<FileImage*>(image);
+  if (op == H5FD_FILE_IMAGE_OP_FILE_CLOSE && buffer)
+    f.bytes.assign(static_cast<char*>(buffer), static_cast<char*>(buffer) + f.size);
+  std::free(buffer);
+  return 0;
+}
+
+void* image_copy(void* image) {
+  return image;
+}
+
+herr_t image_release(void*) {
+  return 0;
+}
+
+// The 1.8 file format checksums the superblock and the object headers, so that a damaged file is
+// refused when opened rather than read as numbers (the datasets carry their own checksums).
+// Objects carry no timestamps, so that the same state gives the same bytes (reproducible runs and
+// resumed runs compare file by file).
+hid_t create_in_memory(const std::string& name, FileImage& image) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // errors are reported by us, in one line
   Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose, "file access list");
-  H5Pset_libver_bounds(access, H5F_LIBVER_V110, H5F_LIBVER_LATEST);
-  const hid_t f = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access);
-  if (f < 0) throw std::runtime_error("HDF5: create " + path + " failed (check the folder)");
+  H5Pset_libver_bounds(access, H5F_LIBVER_V18, H5F_LIBVER_V18);
+  H5Pset_fapl_core(access, 1 << 16, false);
+  H5FD_file_image_callbacks_t callbacks = {image_malloc, image_memcpy,  image_realloc, image_free,
+                                           image_copy,   image_release, &image};
+  H5Pset_file_image_callbacks(access, &callbacks);
+  Handle creation(H5Pcreate(H5P_FILE_CREATE), H5Pclose, "file creation list");
+  H5Pset_obj_track_times(creation, false);
+  const hid_t f = H5Fcreate(name.c_str(), H5F_ACC_TRUNC, creation, access);
+  if (f < 0) throw std::runtime_error("HDF5: create " + name + " in memory failed");
   return f;
 }
 
+}  // namespace
+
 void write_file(const std::string& path, const std::string& what,
                 const std::function<void(hid_t file)>& fill) {
-  const std::string tmp = path + ".part";
-  try {
-    Handle file(create_file(tmp), H5Fclose, "create " + tmp);
+  FileImage image;
+  {
+    Handle file(create_in_memory(path, image), H5Fclose, "create " + path);
     fill(file);
-  } catch (...) {
-    std::remove(tmp.c_str());
-    throw;
   }
-  if (!durable_rename(tmp, path))
-    throw std::runtime_error(path + ": cannot rename the finished " + what + " into place");
+  // The buffer grows by 64 KiB: the file ends with up to that much spare room (zeros), which
+  // readers ignore.
+  if (image.bytes.empty()) throw std::runtime_error("HDF5: " + path + ": no image when closed");
+  const std::string tmp = path + ".part";
+  std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+  out.write(image.bytes.data(), static_cast<std::streamsize>(image.bytes.size()));
+  out.close();
+  if (!out) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": writing the " + what +
+                             " failed (disk full or folder not writable?)");
+  }
+  if (!durable_rename(tmp, path)) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(path + ": cannot move the finished " + what + " into place");
+  }
 }
 
 hid_t create_group(hid_t parent, const char* name) {
-  const hid_t g = H5Gcreate2(parent, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  Handle creation(H5Pcreate(H5P_GROUP_CREATE), H5Pclose, "group creation list");
+  H5Pset_obj_track_times(creation, false);
+  const hid_t g = H5Gcreate2(parent, name, H5P_DEFAULT, creation, H5P_DEFAULT);
   if (g < 0) throw std::runtime_error(std::string("HDF5: create group ") + name + " failed");
   return g;
 }
@@ -94,6 +166,7 @@ void write_array(hid_t parent, const char* name, hid_t type, const T* data, hsiz
   // A Fletcher-32 checksum on every chunk: a flipped bit makes the read fail, never a wrong
   // number. Chunks of up to 65,536 rows (a chunk needs rows > 0; an empty dataset has no data).
   Handle create(H5Pcreate(H5P_DATASET_CREATE), H5Pclose, "dataset creation list");
+  H5Pset_obj_track_times(create, false);
   if (rows > 0) {
     const hsize_t chunk[2] = {std::min<hsize_t>(rows, 65536), cols};
     H5Pset_chunk(create, cols == 1 ? 1 : 2, chunk);

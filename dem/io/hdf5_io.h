@@ -32,12 +32,11 @@ class Handle {
 // Opens a file for reading with HDF5's own error printing off; InputError naming `what` (what
 // would be valid) if it does not exist or is not an HDF5 file.
 hid_t open_for_reading(const std::string& path, const std::string& what);
-// Creates (truncates) a file for writing.
-hid_t create_file(const std::string& path);
 hid_t create_group(hid_t parent, const char* name);
-// Writes a whole file: creates PATH.part, lets `fill` write into it, closes it and renames it to
-// PATH, so that no reader (and no crash) sees it half-written; PATH.part is removed if `fill`
-// throws. `what` names the file in the error of a failed rename.
+// Writes a whole file: `fill` writes into a file built in memory, whose bytes are then written to
+// PATH.part and renamed to PATH durably, so that no reader (and no crash or power cut) sees it
+// half-written. A failed write (a full disk) removes PATH.part and throws std::runtime_error
+// naming the file (`what` says which kind it is).
 void write_file(const std::string& path, const std::string& what,
                 const std::function<void(hid_t file)>& fill);
 // InputError if the group is missing.

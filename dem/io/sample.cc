@@ -100,6 +100,16 @@ void write_contacts(hid_t file, const ContactState& c) {
   hdf5::write_vectors(g, "wall_normal", wall_normal);
 }
 
+// Throws InputError unless every value of `dataset` (at `what`) is an index in [0, n): checked
+// before the values are narrowed to int.
+void require_indices(const std::vector<std::int64_t>& dataset, std::int64_t n,
+                     const std::string& path, const std::string& what) {
+  for (std::int64_t i : dataset)
+    if (i < 0 || i >= n)
+      throw InputError(path + ": " + what + " holds " + std::to_string(i) +
+                       ", not an index in [0, " + std::to_string(n) + "); the file is damaged");
+}
+
 Particles read_particles(hid_t file, const std::string& path, Sample& s) {
   hdf5::Handle g(hdf5::open_group(file, path, "bodies"), H5Gclose, "group bodies");
   const auto x = hdf5::read_vectors(g, path, "position");
@@ -127,12 +137,9 @@ Particles read_particles(hid_t file, const std::string& path, Sample& s) {
   const auto radius = hdf5::read_doubles(e, path, "radius", ne);
   const auto el_material = hdf5::read_integers(e, path, "material", ne);
   // Indices are narrowed to int below: out-of-range values are refused first.
-  const long nmat = static_cast<long>(s.materials.size());
-  for (const auto* list : {&material, &el_material})
-    for (std::int64_t m : *list)
-      if (m < 0 || m >= nmat)
-        throw InputError(path + ": a material index is " + std::to_string(m) + " of " +
-                         std::to_string(nmat) + " materials; the file is damaged");
+  const auto nmat = static_cast<std::int64_t>(s.materials.size());
+  require_indices(material, nmat, path, "bodies/material");
+  require_indices(el_material, nmat, path, "elements/material");
 
   Particles p;
   for (long b = 0; b < nb; ++b) {
@@ -162,6 +169,7 @@ void read_walls(hid_t file, const std::string& path, Sample& s) {
   const auto normal = hdf5::read_vectors(g, path, "normal", n);
   const auto velocity = hdf5::read_vectors(g, path, "velocity", n);
   const auto material = hdf5::read_integers(g, path, "material", n);
+  require_indices(material, static_cast<std::int64_t>(s.materials.size()), path, "planes/material");
   for (long k = 0; k < n; ++k) {
     PlaneWall w;
     w.name = names[k], w.point = point[k], w.normal = normal[k], w.velocity = velocity[k];
@@ -184,11 +192,15 @@ void read_walls(hid_t file, const std::string& path, Sample& s) {
     mesh.part_names = hdf5::read_strings(g2, path, "part_names");
     mesh.vertices = hdf5::read_vectors(g2, path, "local_vertices");
     const auto tri = hdf5::read_integers(g2, path, "triangles");
+    require_indices(tri, static_cast<std::int64_t>(mesh.vertices.size()), path,
+                    "meshes/" + name + "/triangles");
     for (std::size_t t = 0; t + 2 < tri.size(); t += 3)
       mesh.triangles.push_back(
           {static_cast<int>(tri[t]), static_cast<int>(tri[t + 1]), static_cast<int>(tri[t + 2])});
-    for (auto p : hdf5::read_integers(g2, path, "triangle_part", mesh.triangles.size()))
-      mesh.triangle_part.push_back(static_cast<int>(p));
+    const auto part = hdf5::read_integers(g2, path, "triangle_part", mesh.triangles.size());
+    require_indices(part, static_cast<std::int64_t>(mesh.part_names.size()), path,
+                    "meshes/" + name + "/triangle_part");
+    for (auto p : part) mesh.triangle_part.push_back(static_cast<int>(p));
     try {
       mesh.finalize();
     } catch (const std::exception& e) {
