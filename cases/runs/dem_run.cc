@@ -491,6 +491,18 @@ void DemRun::write_summary(const std::string& status) {
     for (int k = 0; k < 3; ++k)
       items.push_back({"mesh_force_" + std::string(1, "xyz"[k]) + "_" + m.name,
                        "mesh " + m.name + " force " + "xyz"[k], "N", m.contact_force[k]});
+  // The tracked bodies' mass properties (their centres are in history/bodies.csv): a clump's
+  // are those of its pebbles' union, not of a sphere of its size.
+  for (int b : tracked_) {
+    const std::string id = std::to_string(p.id[b]), label = "body " + id;
+    items.push_back({"body_" + id + "_elements", label + " sphere elements", "",
+                     double(p.first_element[b + 1] - p.first_element[b])});
+    items.push_back({"body_" + id + "_mass_kg", label + " mass", "kg", p.mass[b]});
+    for (int k = 0; k < 3; ++k)
+      items.push_back({"body_" + id + "_principal_inertia_" + std::to_string(k + 1) + "_kg_m2",
+                       label + " principal inertia " + std::to_string(k + 1), "kg m^2",
+                       p.inertia[b][k]});
+  }
   if (push_)
     for (const auto& i : push_->summary()) items.push_back(i);
   if (subgrade_) {

@@ -89,6 +89,26 @@ TEST_F(Cli, MalformedParticleFileNamesLine) {
                {neg.string() + ":2:", "radius must be > 0"});
 }
 
+// A tracked body's mass properties are in the summary: a ball of radius r has I = 2/5 m r^2
+// about every axis and mass rho 4/3 pi r^3 (the first material's density), to the summary's ten
+// significant digits.
+TEST_F(Cli, TrackedBodiesMassPropertiesInTheSummary) {
+  const fs::path csv = write("p.csv", "x,y,z,radius\n0.1,0.1,0.1,0.02\n");
+  const fs::path f =
+      write("case.prm", small_case("subsection output\n  set tracked bodies = 0\nend\n"
+                                   "subsection materials\n  subsection material 0\n"
+                                   "    set density = 2650\n  end\nend\n",
+                                   csv.string()));
+  ASSERT_EQ(run("run " + f.string()).code, 0);
+  const double mass = summary_number(dir_ / "out", "body_0_mass_kg"), r = 0.02;
+  EXPECT_NEAR(mass, 2650 * 4.0 / 3.0 * M_PI * r * r * r, 1e-9 * mass);
+  EXPECT_EQ(summary_number(dir_ / "out", "body_0_elements"), 1);
+  for (const char* k : {"1", "2", "3"})
+    EXPECT_NEAR(
+        summary_number(dir_ / "out", std::string("body_0_principal_inertia_") + k + "_kg_m2"),
+        0.4 * mass * r * r, 1e-9 * mass * r * r);
+}
+
 TEST_F(Cli, OverlapAtStartIsRefused) {
   const fs::path csv = write("p.csv", "x,y,z,radius\n0.1,0.1,0.1,0.02\n0.13,0.1,0.1,0.02\n");
   expect_error(run("run " + write("c.prm", small_case("", csv.string())).string()),
