@@ -260,11 +260,26 @@ void DemRun::start_from(RunCheckpoint& c) {
                      " push test and the case " + (push_ ? "has" : "has none") +
                      "; valid: the case the run started from");
   const long step = c.engine.steps;
+  const std::string checkpoint = (fs::path(prm_.output_folder) / kCheckpointFile).string();
   try {
     sim_->restore_engine_state(std::move(c.engine));
   } catch (const InputError& e) {
-    throw InputError((fs::path(prm_.output_folder) / kCheckpointFile).string() + ": " + e.what());
+    throw InputError(checkpoint + ": " + e.what());
   }
+  // The next output times follow the case's intervals: each at most one interval ahead, finite
+  // where the case writes at intervals (a push run's snapshots wait for the push: infinite).
+  const double t = sim_->time();
+  auto fits = [t](double next, double interval, bool may_wait) {
+    return interval <= 0 || (may_wait && std::isinf(next)) ||
+           (std::isfinite(next) && next <= t + interval * (1 + 1e-9));
+  };
+  if (!fits(c.next_history, prm_.history_interval, false) ||
+      !fits(c.next_frame, prm_.vtu_interval, false) ||
+      !fits(c.next_snapshot, prm_.snapshot_interval, push_ != nullptr))
+    throw InputError(checkpoint +
+                     ": its next history row, frame or snapshot time does not fit "
+                     "the case's intervals at t = " +
+                     number_text(t) + " s; the file is damaged");
   if (push_) push_->resume(c.push);
   if (push_) total_steps_ = std::lround(push_->expected_end(*sim_) / sim_->time_step());
   initial_energy_ = c.initial_energy;
