@@ -205,7 +205,7 @@ int start_run(trackbed::cases::CaseParameters prm, const StartMpi& start_mpi) {
   const std::string folder = prm.output_folder;
   const bool created = begin_fresh(
       folder, {"run", trackbed::absolute_path(prm.file), prm.fingerprint, prm.mode, prm.threads},
-      prm.file + ": output/folder = " + folder);
+      prm.file + ": output/folder = " + trackbed::excerpt(folder));
   return abandoned_on_input_error(folder, created, [&] { return DemRun(std::move(prm)).run(); });
 }
 
@@ -216,7 +216,7 @@ int start_build(trackbed::cases::SampleParameters prm) {
   const std::string folder = prm.output_folder;
   const bool created = begin_fresh(
       folder, {"build-sample", trackbed::absolute_path(prm.file), prm.fingerprint, "", prm.threads},
-      prm.file + ": output/folder = " + folder);
+      prm.file + ": output/folder = " + trackbed::excerpt(folder));
   return abandoned_on_input_error(folder, created, [&] { return SampleRun(std::move(prm)).run(); });
 }
 

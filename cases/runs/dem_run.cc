@@ -51,7 +51,7 @@ DemRun::~DemRun() = default;
 void DemRun::open_outputs(const RunCheckpoint* c) {
   out_ = prm_.output_folder;
   create_output_folders(out_, {"history", "vtu", "snapshots"},
-                        prm_.file + ": output/folder = " + out_);
+                        prm_.file + ": output/folder = " + excerpt(out_));
   series_ = std::make_unique<Series>();
   const std::string h = out_ + "/history/";
   auto open = [&](const char* name, int k) {

@@ -20,7 +20,8 @@ constexpr const char* kHeader = "trackbed start 1";
 }  // namespace
 
 bool begin_fresh(const std::string& folder, const StartRecord& r, const std::string& where) {
-  const bool created = !fs::exists(folder);
+  std::error_code ec;  // a name the system refuses is said by create_output_folders
+  const bool created = !fs::exists(folder, ec);
   create_output_folders(folder, {}, where);
   fs::remove(fs::path(folder) / kCheckpointFile);
   dem::AtomicFile file((fs::path(folder) / kStartFile).string());
