@@ -294,7 +294,11 @@ void DemRun::start_from(RunCheckpoint& c) {
   earlier_wall_seconds_ = c.wall_seconds;
   earlier_loop_seconds_ = c.loop_seconds;
   part_first_step_ = step;
-  open_outputs(&c);
+  try {
+    open_outputs(&c);  // the histories cut back to the lengths the checkpoint counted
+  } catch (const InputError& e) {
+    throw InputError(checkpoint + ": " + e.what());
+  }
   remove_outputs_after(step);
   if (c.coupled != (subgrade_ != nullptr))
     throw InputError(prm_.file + ": the checkpoint is of a " + (c.coupled ? "coupled" : "DEM") +
