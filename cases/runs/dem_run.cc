@@ -197,6 +197,9 @@ int DemRun::resume(RunCheckpoint checkpoint) {
 
 void DemRun::make_push_test() {
   if (!prm_.push.mesh.empty()) push_ = std::make_unique<PushTest>(prm_.push, *sim_, prm_.file);
+}
+
+void DemRun::count_steps() {
   // A push test ends when the push does; the step count is its estimate, updated as it goes.
   const double end_time = push_ ? push_->expected_end(*sim_) : prm_.end_time;
   const double steps = std::ceil(end_time / sim_->time_step() - 1e-9);
@@ -233,6 +236,7 @@ void DemRun::start_fresh() {
   initial_positions_ = sim_->particles().pos;
   find_tracked_bodies();
   make_push_test();
+  count_steps();
   open_outputs();
   remove_outputs_after(-1);  // an earlier run's frames and snapshots in this folder
   if (subgrade_) subgrade_->start(*sim_, formation_mesh_, sleeper_mesh(), out_);
@@ -281,7 +285,7 @@ void DemRun::start_from(RunCheckpoint& c) {
                      "the case's intervals at t = " +
                      number_text(t) + " s; the file is damaged");
   if (push_) push_->resume(c.push);
-  if (push_) total_steps_ = std::lround(push_->expected_end(*sim_) / sim_->time_step());
+  count_steps();  // with the restored time step
   initial_energy_ = c.initial_energy;
   initial_positions_ = std::move(c.initial_positions);
   find_tracked_bodies();

@@ -62,6 +62,9 @@ class DemRun {
   void start_from(RunCheckpoint& c);
   // The push test of the case, if any (after build_model).
   void make_push_test();
+  // The run's step count from its end time or push test and the time step (set up or restored);
+  // InputError beyond 1e12 steps.
+  void count_steps();
   // Opens the histories and ParaView collections: new, or continued after `c`'s bytes and frames.
   void open_outputs(const RunCheckpoint* c = nullptr);
   int loop_and_finish();

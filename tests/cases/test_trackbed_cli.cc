@@ -489,6 +489,23 @@ TEST_F(Resume, FreshRunDropsAnEarlierRunsCheckpoint) {
   EXPECT_FALSE(fs::exists(dir_ / "out/start.txt"));  // a finished run needs none
 }
 
+// A run with the automatic time step (0 until the model is set up or restored) and an end time:
+// resumed, it counts its steps with the restored step and ends where the uninterrupted one does.
+TEST_F(Resume, AutomaticTimeStepRunEndsAsTheUninterruptedOne) {
+  const fs::path f = write("case.prm", small_case("subsection simulation\n  set time step = 0\n"
+                                                  "  set number of steps = 0\n"
+                                                  "  set end time = 0.01\nend\n"));
+  ASSERT_EQ(run("run " + f.string() + " --threads 1").code, 0);
+  fs::rename(dir_ / "out", dir_ / "whole");
+  setenv("TRACKBED_TEST_SIGNAL", ("100 " + std::to_string(SIGTERM)).c_str(), 1);
+  const Result stopped = run("run " + f.string() + " --threads 1");
+  unsetenv("TRACKBED_TEST_SIGNAL");
+  ASSERT_EQ(stopped.code, 130) << stopped.err;
+  ASSERT_EQ(run("resume " + (dir_ / "out").string()).code, 0);
+  EXPECT_EQ(summary_number(dir_ / "out", "steps"), summary_number(dir_ / "whole", "steps"));
+  EXPECT_TRUE(slurp(dir_ / "out/history/walls.csv") == slurp(dir_ / "whole/history/walls.csv"));
+}
+
 TEST_F(Resume, WhatCannotBeResumedIsSaidInOneLine) {
   const fs::path f = write("case.prm", pushing_case());
   expect_error(run("resume " + (dir_ / "nothing").string()), {"checkpoint.h5", "no such file"});
