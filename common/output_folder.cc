@@ -26,4 +26,8 @@ void create_output_folders(const std::string& folder, std::initializer_list<cons
   if (!written) throw InputError(where + ": cannot write a file in it" + valid);
 }
 
+std::string output_folder_parameter(const std::string& file, const std::string& folder) {
+  return file + ": output/folder = " + excerpt(folder);
+}
+
 }  // namespace trackbed

@@ -13,4 +13,8 @@ namespace trackbed {
 void create_output_folders(const std::string& folder, std::initializer_list<const char*> subfolders,
                            const std::string& where);
 
+// The `where` of a results folder given by `output/folder` in the parameter file `file`:
+// "<file>: output/folder = <folder>" (a long name shortened).
+std::string output_folder_parameter(const std::string& file, const std::string& folder);
+
 }  // namespace trackbed

@@ -28,6 +28,7 @@
 #include "cases/runs/start_record.h"
 #include "common/absolute_path.h"
 #include "common/input_error.h"
+#include "common/output_folder.h"
 #include "dem/io/sample.h"
 #include "dem/samples/section_model.h"
 #include "fem/mpi_runtime.h"
@@ -205,7 +206,7 @@ int start_run(trackbed::cases::CaseParameters prm, const StartMpi& start_mpi) {
   const std::string folder = prm.output_folder;
   const bool created = begin_fresh(
       folder, {"run", trackbed::absolute_path(prm.file), prm.fingerprint, prm.mode, prm.threads},
-      prm.file + ": output/folder = " + trackbed::excerpt(folder));
+      trackbed::output_folder_parameter(prm.file, folder));
   return abandoned_on_input_error(folder, created, [&] { return DemRun(std::move(prm)).run(); });
 }
 
@@ -216,7 +217,7 @@ int start_build(trackbed::cases::SampleParameters prm) {
   const std::string folder = prm.output_folder;
   const bool created = begin_fresh(
       folder, {"build-sample", trackbed::absolute_path(prm.file), prm.fingerprint, "", prm.threads},
-      prm.file + ": output/folder = " + trackbed::excerpt(folder));
+      trackbed::output_folder_parameter(prm.file, folder));
   return abandoned_on_input_error(folder, created, [&] { return SampleRun(std::move(prm)).run(); });
 }
 

@@ -37,6 +37,16 @@ std::string hms(double seconds) {
   return buf;
 }
 
+// Whether an output due every `interval` (the next at `next`) was written at the present step, at
+// `time` with step `dt`. The loop writes one at the first step whose time reaches `next` (within
+// half a step) and moves `next` on by `interval`: the last went at the present step iff
+// `next - interval` lies less than half a step before `time`; with an interval shorter than the
+// step, one goes every step. Worked out from the schedule alone, it holds for resumed runs too.
+bool written_this_step(double next, double interval, double time, double dt) {
+  if (!(interval > 0)) return false;
+  return interval < dt || next - interval > time - 0.5 * dt;
+}
+
 }  // namespace
 
 // The time-series files, written under temporary names and renamed when the run ends.
@@ -51,7 +61,7 @@ DemRun::~DemRun() = default;
 void DemRun::open_outputs(const RunCheckpoint* c) {
   out_ = prm_.output_folder;
   create_output_folders(out_, {"history", "vtu", "snapshots"},
-                        prm_.file + ": output/folder = " + excerpt(out_));
+                        output_folder_parameter(prm_.file, out_));
   series_ = std::make_unique<Series>();
   const std::string h = out_ + "/history/";
   auto open = [&](const char* name, int k) {
@@ -93,7 +103,7 @@ void DemRun::open_outputs(const RunCheckpoint* c) {
   series_->bodies->stream() << "time,id,x,y,z,vx,vy,vz,wx,wy,wz\n";
 }
 
-void DemRun::write_history() {
+dem::EnergyBudget DemRun::write_history() {
   const double t = sim_->time();
   auto& w = series_->walls->stream();
   w << t;
@@ -109,8 +119,8 @@ void DemRun::write_history() {
   }
   w << "\n";
 
+  const dem::EnergyBudget e = sim_->energy();
   if (prm_.track_energy) {
-    const dem::EnergyBudget e = sim_->energy();
     series_->energy->stream() << t << "," << e.kinetic << "," << e.strain << "," << e.friction
                               << "," << e.rolling << "," << e.dashpot << "," << e.local_damping
                               << "," << e.gravity_work << "," << e.wall_work << ","
@@ -124,6 +134,7 @@ void DemRun::write_history() {
                               << p.w[b].z() << "\n";
   }
   if (push_) push_->record(*sim_);
+  return e;
 }
 
 std::string DemRun::frame_file(const char* kind, int k) {
@@ -410,9 +421,11 @@ void DemRun::advance() {
     if (subgrade_) subgrade_->after_step();
     const double t = sim_->time() + 0.5 * dt;  // tolerant of round-off in the clock
     if (prm_.history_interval > 0 && t >= next_history_) {
-      write_history();
+      const dem::EnergyBudget now = write_history();
+      for (const auto* f : {series_->walls.get(), series_->energy.get(), series_->bodies.get()})
+        f->require_written();  // a full disk or a read-only file system stops the run here
       next_history_ += prm_.history_interval;
-      check_health();
+      check_health(now);
     }
     if (t >= next_frame_) {
       write_frame();
@@ -424,26 +437,27 @@ void DemRun::advance() {
     }
     if (std::chrono::duration<double>(Clock::now() - last_progress_).count() >=
         prm_.progress_interval) {
-      check_health();
+      check_health(sim_->energy());
       if (push_) total_steps_ = std::lround(push_->expected_end(*sim_) / dt);
       report_progress(false);
     }
     if (prm_.checkpoint_interval > 0 &&
         std::chrono::duration<double>(Clock::now() - last_checkpoint_).count() >=
             prm_.checkpoint_interval) {
-      check_health();  // a checkpoint is always of a sound state: the one a failed run keeps
+      check_health(
+          sim_->energy());  // a checkpoint is always of a sound state: the one a failed run keeps
       write_checkpoint();
     }
     if (sim_->step_count() == test_signal_.first) std::raise(test_signal_.second);
   }
   loop_seconds_ =
       earlier_loop_seconds_ + std::chrono::duration<double>(Clock::now() - loop_start_).count();
-  check_health();
+  check_health(sim_->energy());
 }
 
-void DemRun::check_health() const {
+void DemRun::check_health(const dem::EnergyBudget& now) const {
   sim_->check_finite();
-  sim_->check_energy(initial_energy_);
+  sim_->check_energy(initial_energy_, now);
 }
 
 void DemRun::finish(const std::string& status) {
@@ -452,16 +466,20 @@ void DemRun::finish(const std::string& status) {
     loop_seconds_ =
         earlier_loop_seconds_ + std::chrono::duration<double>(Clock::now() - loop_start_).count();
   report_progress(true);
-  write_history();
+  // The last state in the histories and frames, unless the loop has just written it.
+  const double t = sim_->time(), dt = sim_->time_step();
+  if (!written_this_step(next_history_, prm_.history_interval, t, dt)) write_history();
   // A blown-up state (NaN) is not worth a frame or a snapshot. An interrupted run's last frame
   // goes when it is resumed (a frame after its checkpoint); its state is in the checkpoint, and
   // a snapshot would stay behind as a file the uninterrupted run does not have.
-  if (finished || status == "interrupted") write_frame();
+  if ((finished || status == "interrupted") &&
+      !written_this_step(next_frame_, prm_.vtu_interval, t, dt))
+    write_frame();
   if (finished) write_snapshot();
-  series_->walls->commit();
-  series_->energy->commit();
-  series_->bodies->commit();
-  if (subgrade_) subgrade_->finish();
+  // A failed run keeps the histories it could write; one whose writing failed goes.
+  for (auto* f : {series_->walls.get(), series_->energy.get(), series_->bodies.get()})
+    if (finished || status == "interrupted" || f->written()) f->commit();
+  if (subgrade_) subgrade_->finish(finished || status == "interrupted");
   if (push_) push_->write_csv(out_ + "/push.csv");
   write_summary(status);
   if (prm_.plot && finished) make_plot();

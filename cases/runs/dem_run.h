@@ -72,7 +72,9 @@ class DemRun {
   void find_tracked_bodies();
   // Removes the frames and snapshots an interrupted run wrote after its checkpoint at `step`.
   void remove_outputs_after(long step);
-  void write_history();
+  // One row of each history file; returns the energy budget of that state (the health check
+  // after it takes it, rather than a second pass over the contacts).
+  dem::EnergyBudget write_history();
   void write_frame();
   // The ParaView file of one kind (particles, contacts, walls) of frame k, relative to out_.
   static std::string frame_file(const char* kind, int k);
@@ -80,7 +82,8 @@ class DemRun {
   void report_progress(bool last);
   void advance();  // the time loop with its outputs
   // Stops a run that has blown up (non-finite state, energy from nowhere): throws with the reason.
-  void check_health() const;
+  // `now` is sim_->energy() of the present state.
+  void check_health(const dem::EnergyBudget& now) const;
   void finish(const std::string& status);
   void write_summary(const std::string& status);
   void make_plot();

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/input_error.h"
+#include "dem/engine/value_checks.h"
 #include "dem/io/hdf5_io.h"
 
 namespace trackbed::cases {
@@ -61,10 +62,6 @@ SubgradeCoupling::Progress read_coupling(hid_t file, const std::string& path) {
   return p;
 }
 
-bool finite(const std::vector<double>& v) {
-  return std::all_of(v.begin(), v.end(), [](double a) { return std::isfinite(a); });
-}
-
 // The run's own numbers (the engine state is checked where it is restored): finite where they
 // must be; the next output times >= 0, infinite when no output is planned; history lengths >= 0.
 void check_run_numbers(const RunCheckpoint& c, const std::string& path) {
@@ -78,7 +75,8 @@ void check_run_numbers(const RunCheckpoint& c, const std::string& path) {
   const bool frames_ok = !c.frame_times.empty() &&
                          std::is_sorted(c.frame_times.begin(), c.frame_times.end()) &&
                          c.frame_times.back() <= c.engine.time;
-  const bool start_ok = frames_ok && finite(c.frame_times) && finite(energy_numbers(e)) &&
+  const bool start_ok = frames_ok && dem::all_finite(c.frame_times) &&
+                        dem::all_finite(energy_numbers(e)) &&
                         std::all_of(c.initial_positions.begin(), c.initial_positions.end(),
                                     [](const dem::Vec3& x) { return x.allFinite(); });
   if (!times_ok || !bytes_ok || !start_ok)

@@ -205,7 +205,7 @@ int SampleRun::build(SampleCheckpoint* from) {
   start_ = std::chrono::steady_clock::now();
   if (prm_.threads > 0) omp_set_num_threads(prm_.threads);
   out_ = prm_.output_folder;
-  create_output_folders(out_, {"history"}, prm_.file + ": output/folder = " + excerpt(out_));
+  create_output_folders(out_, {"history"}, output_folder_parameter(prm_.file, out_));
   dem::BuildCheckpoint* in_ball_build = from && from->in_ball_build ? &from->ball_build : nullptr;
   dem::ConversionCheckpoint* in_conversion =
       from && !from->in_ball_build ? &from->conversion : nullptr;

@@ -197,6 +197,8 @@ void SubgradeCoupling::write_histories(const coupling::ExchangeReport& r) {
   const double sleeper = sleeper_ >= 0 ? sleeper_z0_ - sim_->meshes()[sleeper_].x.z() : NAN;
   settlement_csv_->stream() << t << "," << sleeper << "," << mean_formation_settlement() << ","
                             << largest << "," << interface_work_ << "," << strain_energy_ << "\n";
+  interface_csv_->require_written();
+  settlement_csv_->require_written();
 }
 
 void SubgradeCoupling::write_frame(int k, double time) {
@@ -306,11 +308,13 @@ std::vector<SummaryItem> SubgradeCoupling::summary() const {
   };
 }
 
-void SubgradeCoupling::finish() {
-  interface_csv_->commit();
-  settlement_csv_->commit();
+void SubgradeCoupling::finish(bool sound) {
+  // The other processes are released first: a history that cannot be written must not leave
+  // them waiting.
   if (!released_) announce(Command::finish);
   released_ = true;
+  for (dem::AtomicFile* f : {interface_csv_.get(), settlement_csv_.get()})
+    if (sound || f->written()) f->commit();
 }
 
 }  // namespace trackbed::cases

@@ -72,8 +72,9 @@ class SubgradeCoupling {
   std::vector<SummaryItem> summary() const;
   // Wall seconds in FE solves and the coupling's maps so far (a resumed run's earlier parts too).
   double fe_seconds() const { return fe_seconds_; }
-  // Commits the histories (a finished or failed run) and releases the serving processes.
-  void finish();
+  // Releases the serving processes and commits the histories; a run that is not `sound` (it
+  // failed) drops a history whose writing failed.
+  void finish(bool sound);
 
   // --- The other processes ---
   // Takes part in every collective step the leader announces, until it finishes.

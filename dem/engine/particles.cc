@@ -3,23 +3,13 @@
 #include <algorithm>
 #include <cmath>
 
+#include "dem/engine/value_checks.h"
+
 namespace trackbed::dem {
 
 int Particles::num_clumps() const {
   return static_cast<int>(std::count(is_clump.begin(), is_clump.end(), 1));
 }
-
-namespace {
-
-bool finite(const Vec3& a) {
-  return a.allFinite();
-}
-
-bool positive(double a) {
-  return std::isfinite(a) && a > 0;
-}
-
-}  // namespace
 
 std::string Particles::defect(int num_materials) const {
   const std::size_t nb = x.size(), ne = pos.size();
@@ -43,12 +33,13 @@ std::string Particles::defect(int num_materials) const {
     if (!material_ok(body_material[b]))
       return which + " has material index " + std::to_string(body_material[b]) + " of " +
              std::to_string(num_materials);
-    if (!(finite(x[b]) && finite(v[b]) && finite(w[b]) && finite(L[b]) && finite(f[b]) &&
-          finite(t[b])))
+    if (!(x[b].allFinite() && v[b].allFinite() && w[b].allFinite() && L[b].allFinite() &&
+          f[b].allFinite() && t[b].allFinite()))
       return which + " has a non-finite position, velocity, force or moment";
-    if (!positive(mass[b]) || !positive(inertia[b].minCoeff()) || !finite(inertia[b]))
+    if (!positive_finite(mass[b]) || !positive_finite(inertia[b].minCoeff()) ||
+        !inertia[b].allFinite())
       return which + " has a mass or inertia that is not positive and finite";
-    if (!(std::abs(q[b].norm() - 1) < 1e-6))
+    if (!unit_norm(q[b]))
       return which + " has an orientation quaternion of norm " + std::to_string(q[b].norm());
     if (id[b] < 0) return which + " has a negative id";
     for (int e = first_element[b]; e < first_element[b + 1]; ++e) {
@@ -58,7 +49,7 @@ std::string Particles::defect(int num_materials) const {
       if (!material_ok(material[e]))
         return "element " + std::to_string(e) + " has material index " +
                std::to_string(material[e]) + " of " + std::to_string(num_materials);
-      if (!positive(radius[e]) || !finite(offset[e]) || !finite(pos[e]))
+      if (!positive_finite(radius[e]) || !offset[e].allFinite() || !pos[e].allFinite())
         return "element " + std::to_string(e) +
                " has a radius, offset or position that is "
                "not finite (or a radius not positive)";

@@ -168,7 +168,9 @@ class Simulation {
   // balance falls where dissipation is not tallied (without energy tracking) and, by the
   // leapfrog's half-step velocities, in free fall (-1/(n+1) after n steps from rest)
   // (docs/theory.md, "Runaway detection"). Costs one pass over the contacts (energy()).
-  void check_energy(const EnergyBudget& initial) const;
+  void check_energy(const EnergyBudget& initial) const { check_energy(initial, energy()); }
+  // The same with `now`, energy() of the present state, computed already.
+  void check_energy(const EnergyBudget& initial, const EnergyBudget& now) const;
 
   // Sets the clock (a snapshot being read back; contact springs are not part of a snapshot).
   void set_time(double t, long steps) { time_ = t, steps_ = steps; }

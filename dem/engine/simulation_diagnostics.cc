@@ -297,8 +297,8 @@ double EnergyBudget::balance_error(const EnergyBudget& initial) const {
   return (total() - initial.total()) / scale;
 }
 
-void Simulation::check_energy(const EnergyBudget& initial) const {
-  const double error = energy().balance_error(initial);
+void Simulation::check_energy(const EnergyBudget& initial, const EnergyBudget& now) const {
+  const double error = now.balance_error(initial);
   const double limit = settings_.max_energy_error;
   if (error <= limit) return;
   int worst = 0;

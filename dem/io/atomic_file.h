@@ -13,6 +13,9 @@
 
 namespace trackbed::dem {
 
+// What a failed write of an output file suggests (its errno is lost in a buffered stream).
+inline constexpr const char* kWriteFailedHint = " (disk full, or a file system read-only?)";
+
 class AtomicFile {
  public:
   explicit AtomicFile(std::string path, std::ios::openmode mode = std::ios::out)
@@ -44,8 +47,15 @@ class AtomicFile {
   void commit() {
     out_.close();
     if (!out_ || !durable_rename(tmp_, path_))
-      throw std::runtime_error(path_ + ": writing failed (disk full or folder not writable?)");
+      throw std::runtime_error(path_ + ": writing failed" + kWriteFailedHint);
     committed_ = true;
+  }
+  // Whether every write so far has succeeded.
+  bool written() const { return static_cast<bool>(out_); }
+  // Throws as commit() would when a write has failed already: a file written all through a run (a
+  // history), checked at each row, stops the run at the failure, not at its end.
+  void require_written() const {
+    if (!written()) throw std::runtime_error(path_ + ": writing failed" + kWriteFailedHint);
   }
 
  private:

@@ -11,6 +11,7 @@
 
 #include "common/input_error.h"
 #include "dem/engine/contact_history.h"
+#include "dem/engine/value_checks.h"
 #include "dem/io/hdf5_io.h"
 
 namespace trackbed::dem {
@@ -76,39 +77,31 @@ bool csr(const std::vector<int>& offsets, std::size_t rows, std::size_t entries)
          std::size_t(offsets.back()) == entries && std::is_sorted(offsets.begin(), offsets.end());
 }
 
-bool finite(const std::vector<Vec3>& v) {
-  return std::all_of(v.begin(), v.end(), [](const Vec3& a) { return a.allFinite(); });
-}
-
-bool finite(const std::vector<double>& v) {
-  return std::all_of(v.begin(), v.end(), [](double a) { return std::isfinite(a); });
-}
-
-bool unit(const Quat& q) {
-  return std::abs(q.norm() - 1) < 1e-6;
-}
-
 // The clock, walls and contact springs of a saved state: finite numbers, a positive step, unit
 // quaternions (the bodies are Particles::defect's).
 bool finite_state(const EngineState& s) {
   const EnergyBudget& e = s.tally;
   if (!std::isfinite(s.time) || !(s.time_step > 0 && s.time_step < 1) || s.steps < 0 ||
       s.builds < 0 || !s.gravity.allFinite() ||
-      !finite({e.friction, e.rolling, e.dashpot, e.local_damping, e.gravity_work, e.wall_work}))
+      !all_finite({e.friction, e.rolling, e.dashpot, e.local_damping, e.gravity_work, e.wall_work}))
     return false;
   for (const EngineState::Plane& p : s.planes)
-    if (!finite({p.point, p.velocity, p.force, p.moment})) return false;
+    if (!all_finite({p.point, p.velocity, p.force, p.moment})) return false;
   for (const EngineState::Mesh& m : s.meshes)
-    if (!finite({m.x, m.v, m.w, m.contact_force, m.contact_moment, m.contact_stiffness,
-                 m.contact_rotational_stiffness}) ||
-        !unit(m.q) || !finite(m.part_force) || !finite(m.part_moment) || !finite(m.vertices))
+    if (!all_finite({m.x, m.v, m.w, m.contact_force, m.contact_moment, m.contact_stiffness,
+                     m.contact_rotational_stiffness}) ||
+        !unit_norm(m.q) || !all_finite(m.part_force) || !all_finite(m.part_moment) ||
+        !all_finite(m.vertices))
       return false;
   for (const EngineState::WallContacts& w : s.walls)
-    if (!finite(w.shear) || !finite(w.roll) || !finite(w.normal) || !finite(w.fn)) return false;
-  return finite(s.pair_shear) && finite(s.pair_roll) && finite(s.pair_fn) && finite(s.wall_move) &&
-         finite(s.wall_turn) && finite(s.pos_at_build) && finite(s.radius_at_build) &&
-         std::isfinite(s.growth_since_build) && finite(s.wall_point_at_build) &&
-         std::all_of(s.mesh_q_at_build.begin(), s.mesh_q_at_build.end(), unit);
+    if (!all_finite(w.shear) || !all_finite(w.roll) || !all_finite(w.normal) || !all_finite(w.fn))
+      return false;
+  return all_finite(s.pair_shear) && all_finite(s.pair_roll) && all_finite(s.pair_fn) &&
+         all_finite(s.wall_move) && all_finite(s.wall_turn) && all_finite(s.pos_at_build) &&
+         all_finite(s.radius_at_build) && std::isfinite(s.growth_since_build) &&
+         all_finite(s.wall_point_at_build) &&
+         std::all_of(s.mesh_q_at_build.begin(), s.mesh_q_at_build.end(),
+                     [](const Quat& q) { return unit_norm(q); });
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 
 #include "common/durable_rename.h"
 #include "common/input_error.h"
+#include "dem/io/atomic_file.h"
 
 namespace trackbed::dem::hdf5 {
 
@@ -110,8 +111,7 @@ void write_file(const std::string& path, const std::string& what,
   out.close();
   if (!out) {
     std::remove(tmp.c_str());
-    throw std::runtime_error(path + ": writing the " + what +
-                             " failed (disk full or folder not writable?)");
+    throw std::runtime_error(path + ": writing the " + what + " failed" + kWriteFailedHint);
   }
   if (!durable_rename(tmp, path)) {
     std::remove(tmp.c_str());

@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "common/input_error.h"
+#include "dem/engine/value_checks.h"
 #include "dem/io/hdf5_io.h"
 
 namespace trackbed::dem {
@@ -146,7 +147,7 @@ Particles read_particles(hid_t file, const std::string& path, Sample& s) {
     if (first[b] < 0 || first[b] >= first[b + 1] || first[b + 1] > ne)
       throw InputError(path + ": bodies/first_element is not increasing; the file is damaged");
     // add_body_with_elements normalises: a damaged orientation is refused before it does.
-    if (!(std::abs(q[b].norm() - 1) < 1e-6))
+    if (!unit_norm(q[b]))
       throw InputError(path + ": body " + std::to_string(b) +
                        " has an orientation quaternion of norm " + std::to_string(q[b].norm()) +
                        "; the file is damaged");
@@ -214,8 +215,7 @@ void read_walls(hid_t file, const std::string& path, Sample& s) {
     b.inertia = Eigen::Map<const Mat3>(inertia.data());
     const std::int64_t material = hdf5::read_integers(g2, path, "material", 1)[0];
     if (!(material >= 0 && material < static_cast<std::int64_t>(s.materials.size())) ||
-        !std::all_of(pose.begin(), pose.end(), [](double a) { return std::isfinite(a); }) ||
-        !(std::abs(b.q.norm() - 1) < 1e-6) || !(b.mass >= 0 && std::isfinite(b.mass)) ||
+        !all_finite(pose) || !unit_norm(b.q) || !(b.mass >= 0 && std::isfinite(b.mass)) ||
         !b.inertia.allFinite())
       throw InputError(path + ": mesh '" + excerpt(b.name) +
                        "' has a material index, pose, mass or inertia out of range; the file is "
@@ -334,12 +334,11 @@ Sample read_sample(const std::string& path) {
   std::string defect = s.particles.defect(nmat);
   for (std::size_t b = 0; b < s.shape.size() && defect.empty(); ++b)
     if (s.shape[b] < -1 || s.shape[b] >= static_cast<int>(s.shapes.size()) ||
-        !(s.sieve_size[b] > 0 && std::isfinite(s.sieve_size[b])))
+        !positive_finite(s.sieve_size[b]))
       defect = "body " + std::to_string(b) + " has a shape index or sieve size out of range";
   for (const PlaneWall& w : s.planes)
-    if (defect.empty() &&
-        (!w.point.allFinite() || !w.velocity.allFinite() ||
-         !(std::abs(w.normal.norm() - 1) < 1e-6) || w.material < 0 || w.material >= nmat))
+    if (defect.empty() && (!w.point.allFinite() || !w.velocity.allFinite() ||
+                           !unit_norm(w.normal) || w.material < 0 || w.material >= nmat))
       defect = "plane wall '" + w.name +
                "' has a non-finite point or velocity, a normal not of "
                "unit length or a material index out of range";
