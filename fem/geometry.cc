@@ -10,6 +10,7 @@
 #include <regex>
 #include <sstream>
 
+#include "common/number_text.h"
 #include "fem/elastic_body_impl.h"
 #include "fem/errors.h"
 
@@ -154,9 +155,9 @@ void ElasticBody::make_track_section(const TrackSection& s, const double element
   };
   const double b_ground = half_width(z_ground);
   if (s.ground_half_width < b_ground + h)
-    throw InputError(where + ": 'ground half width' = " + std::to_string(s.ground_half_width) +
-                     " m is invalid; it must exceed the embankment base half-width " +
-                     std::to_string(b_ground) + " m by at least one element size");
+    throw InputError(where + ": 'ground half width' = " + number_text(s.ground_half_width) +
+                     " m does not reach one element size beyond the embankment base (half-width " +
+                     number_text(b_ground) + " m); valid: >= " + number_text(b_ground + h) + " m");
   const unsigned int n_inner = 2 * count(b0, h);
   const unsigned int n_outer = count(s.ground_half_width - b_ground, 2.0 * h);
   const unsigned int nx = n_inner + 2 * n_outer;  // columns of cells

@@ -260,7 +260,8 @@ void DemRun::start_fresh() {
             << sim_->team_size() << " threads" << std::endl;
   write_history();
   write_frame();
-  next_history_ = prm_.history_interval;
+  // An output that is not written at intervals is never due.
+  next_history_ = prm_.history_interval > 0 ? prm_.history_interval : INFINITY;
   next_frame_ = prm_.vtu_interval > 0 ? prm_.vtu_interval : INFINITY;
   // A push test's snapshots start with the push (advance()).
   next_snapshot_ = prm_.snapshot_interval > 0 && !push_ ? prm_.snapshot_interval : INFINITY;
@@ -282,10 +283,12 @@ void DemRun::start_from(RunCheckpoint& c) {
     throw InputError(checkpoint + ": " + e.what());
   }
   // The next output times follow the case's intervals: each at most one interval ahead, finite
-  // where the case writes at intervals (a push run's snapshots wait for the push: infinite).
+  // where the case writes at intervals (a push run's snapshots wait for the push: infinite),
+  // infinite where it does not.
   const double t = sim_->time();
   auto fits = [t](double next, double interval, bool may_wait) {
-    return interval <= 0 || (may_wait && std::isinf(next)) ||
+    if (interval <= 0) return next == INFINITY;
+    return (may_wait && next == INFINITY) ||
            (std::isfinite(next) && next <= t + interval * (1 + 1e-9));
   };
   if (!fits(c.next_history, prm_.history_interval, false) ||
@@ -319,8 +322,13 @@ void DemRun::start_from(RunCheckpoint& c) {
     throw InputError(prm_.file + ": the checkpoint is of a " + (c.coupled ? "coupled" : "DEM") +
                      " run and the case's mode is " + prm_.mode +
                      "; valid: the mode the run started with");
-  if (subgrade_)
-    subgrade_->start(*sim_, formation_mesh_, sleeper_mesh(), out_, &c.coupling, c.frame_times);
+  if (subgrade_) {
+    try {  // its state fitted to the FE interface, its histories cut back
+      subgrade_->start(*sim_, formation_mesh_, sleeper_mesh(), out_, &c.coupling, c.frame_times);
+    } catch (const InputError& e) {
+      throw InputError(checkpoint + ": " + e.what());
+    }
+  }
   std::cout << "trackbed: resuming " << prm_.file << " in " << out_ << " at t = " << sim_->time()
             << " s (step " << step << " of about " << total_steps_ << "), "
             << sim_->particles().num_elements() << " sphere elements, " << sim_->team_size()

@@ -191,7 +191,13 @@ void DemRun::add_mesh(const MeshParameters& m, const dem::Sample* sample) {
 
 void DemRun::make_subgrade(const dem::Sample& sample) {
   const TrackSection section = dem::section_of(sample);
-  subgrade_ = std::make_unique<SubgradeCoupling>(prm_, section);
+  try {
+    subgrade_ = std::make_unique<SubgradeCoupling>(prm_, section);
+  } catch (const InputError& e) {
+    // The FE mesh's checks see the section (the sample's, with the case's layers), not where
+    // its figures came from.
+    throw InputError(prm_.file + ": fem/layers with the sample's section: " + e.what());
+  }
   std::cout << "trackbed: coupled: " << subgrade_->description() << std::endl;
 }
 

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/input_error.h"
+#include "common/number_text.h"
 #include "dem/engine/value_checks.h"
 #include "dem/io/hdf5_io.h"
 
@@ -51,6 +52,13 @@ SubgradeCoupling::Progress read_coupling(hid_t file, const std::string& path) {
   coupling::QuasiStaticState& s = p.scheme;
   p.fe_displacement = hdf5::read_doubles(g, path, "fe_displacement");
   const auto n = hdf5::read_doubles(g, path, "counters", 8);
+  // Counts (exchanges, diverging exchanges) and a flag (converged) stored as reals, checked
+  // before they are converted; the sums finite, the FE time not negative.
+  auto count = [](double c) { return c >= 0 && c <= 1e12 && c == std::floor(c); };
+  if (!count(n[0]) || !count(n[7]) || !(n[2] == 0 || n[2] == 1) || !dem::all_finite(n) || n[5] < 0)
+    throw InputError(path +
+                     ": coupling/counters hold a value out of range (a count not a whole number "
+                     ">= 0, a flag not 0 or 1, a sum not finite); the file is damaged");
   s.exchanges = static_cast<int>(n[0]), s.last_relaxation = n[1], s.converged = n[2] != 0;
   p.interface_work = n[3], p.strain_energy = n[4], p.fe_seconds = n[5], p.sleeper_z0 = n[6];
   s.diverging = static_cast<int>(n[7]);
@@ -59,6 +67,12 @@ SubgradeCoupling::Progress read_coupling(hid_t file, const std::string& path) {
   p.interval_origin = hdf5::read_vectors(g, path, "interval_origin");
   const auto bytes = hdf5::read_integers(g, path, "history_bytes", 2);
   p.history_bytes.assign(bytes.begin(), bytes.end());
+  if (!dem::all_finite(p.fe_displacement) || !dem::all_finite(s.displacement) ||
+      !dem::all_finite(s.last_residual) || !dem::all_finite(p.interval_origin) ||
+      std::any_of(bytes.begin(), bytes.end(), [](std::int64_t b) { return b < 0; }))
+    throw InputError(path +
+                     ": the coupling's FE displacement, interface displacements or residuals "
+                     "are not finite, or its history lengths negative; the file is damaged");
   return p;
 }
 
@@ -152,6 +166,12 @@ RunCheckpoint read_run_checkpoint(const std::string& path) {
   }
   Handle run(hdf5::open_group(file, path, "run"), H5Gclose, "group run");
   const auto n = hdf5::read_doubles(run, path, "counters", 7);
+  // A flag (0 or 1) and a step of the run, stored as reals: checked before they are converted.
+  if (!(n[3] == 0 || n[3] == 1) || !(n[4] >= 0 && n[4] <= static_cast<double>(c.engine.steps)))
+    throw InputError(path + ": run/counters hold a warning flag of " + number_text(n[3]) +
+                     " (valid: 0 or 1) or a first timed step of " + number_text(n[4]) +
+                     " (valid: 0 to the state's step " + std::to_string(c.engine.steps) +
+                     "); the file is damaged");
   c.next_history = n[0], c.next_frame = n[1], c.next_snapshot = n[2];
   c.warned_critical = n[3] != 0, c.loop_start_step = static_cast<long>(n[4]);
   c.wall_seconds = n[5], c.loop_seconds = n[6];

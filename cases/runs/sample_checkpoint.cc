@@ -1,10 +1,12 @@
 #include "cases/runs/sample_checkpoint.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
 
 #include "common/input_error.h"
+#include "common/number_text.h"
 #include "dem/io/hdf5_io.h"
 
 namespace trackbed::cases {
@@ -29,10 +31,27 @@ void write_table(hid_t g, const char* name, const std::vector<std::string>& text
   hdf5::write_strings(g, (std::string(name) + "_names").c_str(), texts);
 }
 
+// A report's figures may be NaN (not measured yet) but never infinite; `counts` (column indices)
+// are whole numbers >= 0. InputError naming the table otherwise, before anything is converted.
+void require_report_numbers(const std::vector<double>& v, int cols, std::vector<int> counts,
+                            const std::string& file, const char* name) {
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    const bool count = std::find(counts.begin(), counts.end(), int(k % cols)) != counts.end();
+    if (std::isinf(v[k]) || (count && !(v[k] >= 0 && v[k] <= 1e15 && v[k] == std::floor(v[k]))))
+      throw InputError(file + ": " + name + " holds " + number_text(v[k]) + " in column " +
+                       std::to_string(k % cols) +
+                       "; valid: " + (count ? "a whole number >= 0" : "a finite number") +
+                       "; the file is damaged");
+  }
+}
+
 std::vector<double> read_table(hid_t g, const std::string& file, const char* name,
-                               std::vector<std::string>& texts, int cols) {
+                               std::vector<std::string>& texts, int cols,
+                               const std::vector<int>& counts) {
   texts = hdf5::read_strings(g, file, (std::string(name) + "_names").c_str());
-  return hdf5::read_doubles(g, file, name, static_cast<long>(texts.size()) * cols);
+  auto v = hdf5::read_doubles(g, file, name, static_cast<long>(texts.size()) * cols);
+  require_report_numbers(v, cols, counts, file, name);
+  return v;
 }
 
 void write_stages(hid_t g, const char* name, const std::vector<dem::StageReport>& stages) {
@@ -49,7 +68,8 @@ void write_stages(hid_t g, const char* name, const std::vector<dem::StageReport>
 
 std::vector<dem::StageReport> read_stages(hid_t g, const std::string& file, const char* name) {
   std::vector<std::string> names;
-  const auto v = read_table(g, file, name, names, kStageColumns);
+  // steps, converged (0 or 1), bodies, elements, contacts
+  const auto v = read_table(g, file, name, names, kStageColumns, {0, 4, 5, 6, 7});
   std::vector<dem::StageReport> out;
   for (std::size_t k = 0; k < names.size(); ++k) {
     const double* r = v.data() + k * kStageColumns;
@@ -87,12 +107,14 @@ void read_ball_build(hid_t file, const std::string& path, dem::BuildCheckpoint& 
   dem::BuildReport& r = b.report;
   Handle g(hdf5::open_group(file, path, "ball_build"), H5Gclose, "group ball_build");
   const auto n = hdf5::read_doubles(g, path, "report", 4);
+  require_report_numbers(n, 4, {0}, path, "ball_build/report");  // stones drawn
   r.stones_drawn = static_cast<int>(n[0]);
   r.deposition_friction_factor = n[1];
   r.porosity = n[2];
   b.sleeper_lift = n[3];
   const auto stages = read_stages(g, path, "calibration_stages");
   const auto points = hdf5::read_doubles(g, path, "calibration", 2 * long(stages.size()));
+  require_report_numbers(points, 2, {}, path, "ball_build/calibration");
   for (std::size_t k = 0; k < stages.size(); ++k)
     r.calibration.push_back({points[2 * k], points[2 * k + 1], stages[k]});
 }
@@ -189,6 +211,10 @@ SampleCheckpoint read_sample_checkpoint(const std::string& path) {
     throw InputError(path + ": part = '" + part + "'; valid: '" + kBallBuild + "' or '" +
                      kConversion + "'; the file is damaged");
   c.in_ball_build = part == kBallBuild;
+  if (c.in_ball_build && !c.base_digest.empty())
+    throw InputError(path + ": base_digest = '" + excerpt(c.base_digest) +
+                     "' in a ball build's checkpoint, which has no base sample; valid: empty; "
+                     "the file is damaged");
   dem::BuildCheckpoint& b = c.ball_build;
   dem::ConversionCheckpoint& v = c.conversion;
   {
@@ -198,11 +224,13 @@ SampleCheckpoint read_sample_checkpoint(const std::string& path) {
   if (c.in_ball_build) read_ball_build(file, path, b);
   Handle build(hdf5::open_group(file, path, "build"), H5Gclose, "group build");
   const auto n = hdf5::read_doubles(build, path, "counters", 5);
-  const int stage = static_cast<int>(n[0]);
+  // stage, steps, checks below the criterion: counts
+  require_report_numbers(n, 5, {0, 1, 2}, path, "build/counters");
   const int last = (c.in_ball_build ? dem::kBuildStages : dem::kConversionStages) - 1;
-  if (stage < 0 || stage > last)
-    throw InputError(path + ": build/counters names stage " + std::to_string(stage) + " of the " +
+  if (n[0] > last)
+    throw InputError(path + ": build/counters names stage " + number_text(n[0]) + " of the " +
                      part + "; valid: 0 to " + std::to_string(last) + "; the file is damaged");
+  const int stage = static_cast<int>(n[0]);
   dem::StagePoint& at = c.in_ball_build ? b.point : v.point;
   at.steps = std::lround(n[1]);
   at.below = static_cast<int>(n[2]);
@@ -210,6 +238,7 @@ SampleCheckpoint read_sample_checkpoint(const std::string& path) {
   c.wall_seconds = n[4];
   (c.in_ball_build ? b.criterion_memory : v.criterion_memory) =
       hdf5::read_doubles(build, path, "criterion_memory");
+  (c.in_ball_build ? b.file : v.file) = path;
   auto& done = c.in_ball_build ? b.report.stages : v.done;
   done = read_stages(build, path, "conversion_stages");
   if (c.in_ball_build)
@@ -225,7 +254,7 @@ SampleCheckpoint read_sample_checkpoint(const std::string& path) {
                      "is damaged");
   for (std::size_t k = 0; k < keys.size(); ++k) c.notes.push_back({keys[k], values[k]});
   std::vector<std::string> stages;
-  const auto flat = read_table(build, path, "history", stages, kHistoryColumns);
+  const auto flat = read_table(build, path, "history", stages, kHistoryColumns, {1, 4});
   for (std::size_t k = 0; k < stages.size(); ++k) {
     const double* r = flat.data() + k * kHistoryColumns;
     c.history.push_back(

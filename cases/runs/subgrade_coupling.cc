@@ -279,8 +279,7 @@ void SubgradeCoupling::restore(const Progress& progress) {
   scheme_->restore(std::move(state));
   if (!leader()) return;
   if (progress.interval_origin.size() != vertex_area_.size())
-    throw InputError("checkpoint: the coupling state has " +
-                     std::to_string(progress.interval_origin.size()) +
+    throw InputError("the coupling state has " + std::to_string(progress.interval_origin.size()) +
                      " formation vertices where the subgrade has " +
                      std::to_string(vertex_area_.size()) + "; valid: a checkpoint of this case");
   interval_origin_ = progress.interval_origin;

@@ -87,12 +87,17 @@ bool finite_state(const EngineState& s) {
     return false;
   for (const EngineState::Plane& p : s.planes)
     if (!all_finite({p.point, p.velocity, p.force, p.moment})) return false;
-  for (const EngineState::Mesh& m : s.meshes)
+  for (const EngineState::Mesh& m : s.meshes) {
+    const MeshDeformation& d = m.deformation;  // a deformable mesh's vertex state
+    if (!all_finite(d.velocity) || !all_finite(d.load) || !all_finite(d.impulse) ||
+        !std::isfinite(d.impulse_time) || !all_finite(d.at_build) || !all_finite(d.pending_move))
+      return false;
     if (!all_finite({m.x, m.v, m.w, m.contact_force, m.contact_moment, m.contact_stiffness,
                      m.contact_rotational_stiffness}) ||
         !unit_norm(m.q) || !all_finite(m.part_force) || !all_finite(m.part_moment) ||
         !all_finite(m.vertices))
       return false;
+  }
   for (const EngineState::WallContacts& w : s.walls)
     if (!all_finite(w.shear) || !all_finite(w.roll) || !all_finite(w.normal) || !all_finite(w.fn))
       return false;

@@ -206,6 +206,15 @@ ConversionCheckpoint ClumpConversion::checkpoint(const StagePoint& at) const {
   return c;
 }
 
+void ClumpConversion::restore(ConversionCheckpoint& from) {
+  try {
+    sim_->restore_engine_state(std::move(from.engine));
+    if (from.stage == ConversionStage::equilibrium) settled_.restore_memory(from.criterion_memory);
+  } catch (const InputError& e) {
+    throw InputError(from.file + ": " + e.what());
+  }
+}
+
 void ClumpConversion::grow(ConversionCheckpoint* from) {
   const StageMaterials growing{
       settings_.growth_friction_factor, settings_.growth_friction_factor, {}, true};
@@ -261,7 +270,7 @@ void ClumpConversion::grow(ConversionCheckpoint* from) {
   StepRenewal renewal;
   renewal.began = sim_->time();
   if (from) {
-    sim_->restore_engine_state(std::move(from->engine));
+    restore(*from);
     start = from->point;
   }
   if (renewed)
@@ -326,10 +335,8 @@ void ClumpConversion::settle(ConversionCheckpoint* from) {
   double dt =
       settings_.settling_step_factor * settings_.critical_fraction * sim_->critical_timestep();
   if (from) {
-    sim_->restore_engine_state(std::move(from->engine));
+    restore(*from);
     dt = sim_->time_step();  // the step it was taking
-    if (from->stage == ConversionStage::equilibrium)
-      settled_.restore_memory(from->criterion_memory);
     start = from->point;
   }
   if (densify) {

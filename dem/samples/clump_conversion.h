@@ -85,6 +85,7 @@ struct ConversionCheckpoint {
   std::vector<double> criterion_memory;  // the equilibrium stage's (SettleCriterion::memory)
   std::vector<StageReport> done;         // the stages finished before
   EngineState engine;
+  std::string file;  // the checkpoint it was read from: a state that does not fit names it
 };
 
 class ClumpConversion {
@@ -113,6 +114,9 @@ class ClumpConversion {
     double start_scale;
   };
   void replace();
+  // The engine state and the equilibrium criterion's memory of checkpoint `from`; InputError
+  // naming its file when they do not fit the model.
+  void restore(ConversionCheckpoint& from);
   void grow(ConversionCheckpoint* from);
   void settle(ConversionCheckpoint* from);
   // Gives the settling model step dt for the stage judged by `c`, of which `steps_done` steps are

@@ -151,15 +151,27 @@ void SampleBuilder::restore() {
   if (m.walls.sleeper) sleeper = model_.sleeper_at(sleeper_lift_);
   sim_ = std::make_unique<Simulation>(
       model.make(resume_->engine.particles, m.walls, m.materials, sleeper));
-  sim_->setup();
-  sim_->restore_engine_state(std::move(resume_->engine));
+  try {
+    // The saved bodies make the model: checked before it is set up on them.
+    const std::string defect = sim_->particles().defect(sim_->materials().size());
+    if (!defect.empty())
+      throw InputError("the saved state is damaged: " + defect + "; the file is damaged");
+    sim_->setup();
+    sim_->restore_engine_state(std::move(resume_->engine));
+  } catch (const InputError& e) {
+    throw InputError(resume_->file + ": " + e.what());
+  }
 }
 
 void SampleBuilder::settle(const std::string& name, const SettleCriterion& c) {
   criterion_ = c;
   StagePoint start;
   if (resume_) {
-    if (criterion_.restore_memory) criterion_.restore_memory(resume_->criterion_memory);
+    try {
+      if (criterion_.restore_memory) criterion_.restore_memory(resume_->criterion_memory);
+    } catch (const InputError& e) {
+      throw InputError(resume_->file + ": " + e.what());
+    }
     start = resume_->point;
     resume_ = nullptr;
   }

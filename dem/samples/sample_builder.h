@@ -109,6 +109,7 @@ struct BuildCheckpoint {
   // moved to its saved pose); NaN before it is placed.
   double sleeper_lift = std::numeric_limits<double>::quiet_NaN();
   EngineState engine;
+  std::string file;  // the checkpoint it was read from: a state that does not fit names it
 };
 
 class SampleBuilder {

@@ -166,6 +166,26 @@ TEST_F(PushOnSubgrade, Resumed) {
   EXPECT_FALSE(fs::exists(out / "checkpoint.h5"));
 }
 
+// A continuum too narrow for the sample's section (the ground must reach one element size beyond
+// the embankment's foot): refused in one line naming the case file, its layers and what is valid,
+// before anything runs.
+TEST_F(PushOnSubgrade, GroundNarrowerThanTheEmbankmentIsRefused) {
+  const fs::path out = results("all-ball-rolling-on-subgrade-narrow");
+  const Result r = run_including(
+      "run", small_case(kModel),
+      "subsection particles\n  set sample file = " +
+          (sample("small-section") / "sample.h5").string() +
+          "\nend\nsubsection fem\n  subsection layers\n    set ground half width = 0.5\n"
+          "  end\nend\n",
+      out);
+  EXPECT_EQ(r.code, 2) << r.out << r.err;
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
+  for (const char* part :
+       {".prm: fem/layers with the sample's section", "'ground half width' = 0.5", "valid: >= "})
+    EXPECT_NE(r.err.find(part), std::string::npos) << part << " in " << r.err;
+  EXPECT_FALSE(fs::exists(out / "summary.json"));
+}
+
 // The FE subgrade spread over two MPI processes, the DEM on the first: the run finishes, every
 // exchange conserves the load, and the push is the one-process push within the scatter (the FE
 // rounding differs between one and two processes; measured 225.8 N against 233.3 N).

@@ -4,14 +4,19 @@
 // checks stand between the edit and the engine.
 //   h5_edit FILE list                        datasets ("dataset PATH f|i VALUES") and string
 //                                            attributes ("attribute OBJECT NAME")
-//   h5_edit FILE set DATASET INDEX VALUE     one value (in row-major order) set to VALUE
-//   h5_edit FILE attr OBJECT NAME VALUE      a string attribute set to VALUE
+//   h5_edit FILE set DATASET INDEX VALUE     one value (in row-major order) set to VALUE; exit 3
+//                                            and "unchanged" when it holds VALUE already
+//   h5_edit FILE attr OBJECT NAME VALUE      a string attribute set to VALUE; exit 3 and
+//                                            "unchanged" when it holds VALUE already
 //   h5_edit FILE shrink DATASET              the dataset one row shorter (one value if 1-D)
 //   h5_edit FILE drop DATASET                the dataset removed
-// Exit 0 on success, 1 with a line on standard error otherwise.
+// Exit 0 on success, 3 when a set or attr would change nothing, 1 with a line on standard error
+// otherwise.
 #include <hdf5.h>
 
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <iostream>
 #include <string>
@@ -63,7 +68,9 @@ std::vector<hsize_t> dims_of(hid_t set, bool& floating) {
   return dims;
 }
 
-void set_value(hid_t file, const std::string& name, long index, const std::string& value) {
+// Sets one element; false (and nothing written) when it holds that value already (an edit that
+// changes nothing is no malformed input).
+bool set_value(hid_t file, const std::string& name, long index, const std::string& value) {
   const hid_t set = H5Dopen2(file, name.c_str(), H5P_DEFAULT);
   if (set < 0) fail("no dataset " + name);
   bool floating = false;
@@ -73,24 +80,49 @@ void set_value(hid_t file, const std::string& name, long index, const std::strin
   const hsize_t start[2] = {index / cols, index % cols}, count[2] = {1, 1};
   const hid_t file_space = H5Dget_space(set), one = H5Screate_simple(1, count, nullptr);
   H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, count, nullptr);
-  herr_t status;
+  herr_t status = 0;
+  bool changed = true;
   if (floating) {
     const double v = std::strtod(value.c_str(), nullptr);
-    status = H5Dwrite(set, H5T_NATIVE_DOUBLE, one, file_space, H5P_DEFAULT, &v);
+    double old = 0;
+    H5Dread(set, H5T_NATIVE_DOUBLE, one, file_space, H5P_DEFAULT, &old);
+    changed = !(old == v || (std::isnan(old) && std::isnan(v)));
+    if (changed) status = H5Dwrite(set, H5T_NATIVE_DOUBLE, one, file_space, H5P_DEFAULT, &v);
   } else {
     const std::int64_t v = std::strtoll(value.c_str(), nullptr, 10);
-    status = H5Dwrite(set, H5T_NATIVE_INT64, one, file_space, H5P_DEFAULT, &v);
+    std::int64_t old = 0;
+    H5Dread(set, H5T_NATIVE_INT64, one, file_space, H5P_DEFAULT, &old);
+    changed = old != v;
+    if (changed) status = H5Dwrite(set, H5T_NATIVE_INT64, one, file_space, H5P_DEFAULT, &v);
   }
   if (status < 0) fail("write failed");
   H5Sclose(one);
   H5Sclose(file_space);
   H5Dclose(set);
+  return changed;
 }
 
-void set_attribute(hid_t file, const std::string& object, const std::string& name,
+// The string attribute `name` of `object`, "" when it has none.
+std::string attribute_text(hid_t o, const std::string& name) {
+  if (H5Aexists(o, name.c_str()) <= 0) return "";
+  const hid_t a = H5Aopen(o, name.c_str(), H5P_DEFAULT), t = H5Aget_type(a);
+  std::string text(H5Tget_size(t), '\0');
+  if (H5Tget_class(t) != H5T_STRING || H5Tis_variable_str(t) > 0 || H5Aread(a, t, text.data()) < 0)
+    text = "\x01(not a fixed-length string)";
+  H5Tclose(t);
+  H5Aclose(a);
+  return text.substr(0, text.find('\0'));
+}
+
+// Sets a string attribute; false (and nothing written) when it holds that text already.
+bool set_attribute(hid_t file, const std::string& object, const std::string& name,
                    const std::string& value) {
   const hid_t o = H5Oopen(file, object.c_str(), H5P_DEFAULT);
   if (o < 0) fail("no object " + object);
+  if (attribute_text(o, name) == value && H5Aexists(o, name.c_str()) > 0) {
+    H5Oclose(o);
+    return false;
+  }
   if (H5Aexists(o, name.c_str()) > 0) H5Adelete(o, name.c_str());
   const hid_t t = H5Tcopy(H5T_C_S1), s = H5Screate(H5S_SCALAR);
   H5Tset_size(t, value.empty() ? 1 : value.size());
@@ -101,6 +133,7 @@ void set_attribute(hid_t file, const std::string& object, const std::string& nam
   H5Sclose(s);
   H5Tclose(t);
   H5Oclose(o);
+  return true;
 }
 
 void shrink(hid_t file, const std::string& name) {
@@ -138,9 +171,17 @@ int main(int argc, char** argv) {
     H5Aiterate2(file, H5_INDEX_NAME, H5_ITER_INC, nullptr, list_attribute, &root);
     H5Ovisit(file, H5_INDEX_NAME, H5_ITER_INC, list_object, nullptr);
   } else if (command == "set" && argc == 6) {
-    set_value(file, argv[3], std::atol(argv[4]), argv[5]);
+    if (!set_value(file, argv[3], std::atol(argv[4]), argv[5])) {
+      H5Fclose(file);
+      std::puts("unchanged");
+      return 3;
+    }
   } else if (command == "attr" && argc == 6) {
-    set_attribute(file, argv[3], argv[4], argv[5]);
+    if (!set_attribute(file, argv[3], argv[4], argv[5])) {
+      H5Fclose(file);
+      std::puts("unchanged");
+      return 3;
+    }
   } else if (command == "shrink" && argc == 4) {
     shrink(file, argv[3]);
   } else if (command == "drop" && argc == 4) {
