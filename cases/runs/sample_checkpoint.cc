@@ -31,26 +31,33 @@ void write_table(hid_t g, const char* name, const std::vector<std::string>& text
   hdf5::write_strings(g, (std::string(name) + "_names").c_str(), texts);
 }
 
-// A report's figures may be NaN (not measured yet) but never infinite; `counts` (column indices)
-// are whole numbers >= 0. InputError naming the table otherwise, before anything is converted.
-void require_report_numbers(const std::vector<double>& v, int cols, std::vector<int> counts,
-                            const std::string& file, const char* name) {
+// The figures of a report or history, `cols` to a row: finite, whole numbers >= 0 in the
+// `counts` columns, NaN allowed in the `undefined` ones (a sleeper's height before there is
+// one). InputError naming the table otherwise, before anything is converted.
+void require_report_numbers(const std::vector<double>& v, int cols, const std::vector<int>& counts,
+                            const std::vector<int>& undefined, const std::string& file,
+                            const char* name) {
+  auto in = [](const std::vector<int>& columns, int c) {
+    return std::find(columns.begin(), columns.end(), c) != columns.end();
+  };
   for (std::size_t k = 0; k < v.size(); ++k) {
-    const bool count = std::find(counts.begin(), counts.end(), int(k % cols)) != counts.end();
-    if (std::isinf(v[k]) || (count && !(v[k] >= 0 && v[k] <= 1e15 && v[k] == std::floor(v[k]))))
+    const int c = static_cast<int>(k % cols);
+    const bool ok = in(counts, c) ? v[k] >= 0 && v[k] <= 1e15 && v[k] == std::floor(v[k])
+                                  : std::isfinite(v[k]) || (in(undefined, c) && std::isnan(v[k]));
+    if (!ok)
       throw InputError(file + ": " + name + " holds " + number_text(v[k]) + " in column " +
-                       std::to_string(k % cols) +
-                       "; valid: " + (count ? "a whole number >= 0" : "a finite number") +
+                       std::to_string(c) +
+                       "; valid: " + (in(counts, c) ? "a whole number >= 0" : "a finite number") +
                        "; the file is damaged");
   }
 }
 
 std::vector<double> read_table(hid_t g, const std::string& file, const char* name,
                                std::vector<std::string>& texts, int cols,
-                               const std::vector<int>& counts) {
+                               const std::vector<int>& counts, const std::vector<int>& undefined) {
   texts = hdf5::read_strings(g, file, (std::string(name) + "_names").c_str());
   auto v = hdf5::read_doubles(g, file, name, static_cast<long>(texts.size()) * cols);
-  require_report_numbers(v, cols, counts, file, name);
+  require_report_numbers(v, cols, counts, undefined, file, name);
   return v;
 }
 
@@ -69,7 +76,7 @@ void write_stages(hid_t g, const char* name, const std::vector<dem::StageReport>
 std::vector<dem::StageReport> read_stages(hid_t g, const std::string& file, const char* name) {
   std::vector<std::string> names;
   // steps, converged (0 or 1), bodies, elements, contacts
-  const auto v = read_table(g, file, name, names, kStageColumns, {0, 4, 5, 6, 7});
+  const auto v = read_table(g, file, name, names, kStageColumns, {0, 4, 5, 6, 7}, {});
   std::vector<dem::StageReport> out;
   for (std::size_t k = 0; k < names.size(); ++k) {
     const double* r = v.data() + k * kStageColumns;
@@ -107,14 +114,15 @@ void read_ball_build(hid_t file, const std::string& path, dem::BuildCheckpoint& 
   dem::BuildReport& r = b.report;
   Handle g(hdf5::open_group(file, path, "ball_build"), H5Gclose, "group ball_build");
   const auto n = hdf5::read_doubles(g, path, "report", 4);
-  require_report_numbers(n, 4, {0}, path, "ball_build/report");  // stones drawn
+  // stones drawn; the sleeper's lift NaN before it is placed
+  require_report_numbers(n, 4, {0}, {3}, path, "ball_build/report");
   r.stones_drawn = static_cast<int>(n[0]);
   r.deposition_friction_factor = n[1];
   r.porosity = n[2];
   b.sleeper_lift = n[3];
   const auto stages = read_stages(g, path, "calibration_stages");
   const auto points = hdf5::read_doubles(g, path, "calibration", 2 * long(stages.size()));
-  require_report_numbers(points, 2, {}, path, "ball_build/calibration");
+  require_report_numbers(points, 2, {}, {}, path, "ball_build/calibration");
   for (std::size_t k = 0; k < stages.size(); ++k)
     r.calibration.push_back({points[2 * k], points[2 * k + 1], stages[k]});
 }
@@ -225,7 +233,7 @@ SampleCheckpoint read_sample_checkpoint(const std::string& path) {
   Handle build(hdf5::open_group(file, path, "build"), H5Gclose, "group build");
   const auto n = hdf5::read_doubles(build, path, "counters", 5);
   // stage, steps, checks below the criterion: counts
-  require_report_numbers(n, 5, {0, 1, 2}, path, "build/counters");
+  require_report_numbers(n, 5, {0, 1, 2}, {}, path, "build/counters");
   const int last = (c.in_ball_build ? dem::kBuildStages : dem::kConversionStages) - 1;
   if (n[0] > last)
     throw InputError(path + ": build/counters names stage " + number_text(n[0]) + " of the " +
@@ -254,9 +262,13 @@ SampleCheckpoint read_sample_checkpoint(const std::string& path) {
                      "is damaged");
   for (std::size_t k = 0; k < keys.size(); ++k) c.notes.push_back({keys[k], values[k]});
   std::vector<std::string> stages;
-  const auto flat = read_table(build, path, "history", stages, kHistoryColumns, {1, 4});
+  // steps and contacts; the sleeper's height and load NaN without one
+  const auto flat = read_table(build, path, "history", stages, kHistoryColumns, {1, 4}, {5, 6});
   for (std::size_t k = 0; k < stages.size(); ++k) {
     const double* r = flat.data() + k * kHistoryColumns;
+    if (std::isnan(r[5]) != std::isnan(r[6]))  // a sleeper has both a height and a load
+      throw InputError(path + ": build/history row " + std::to_string(k) +
+                       " has a sleeper height or load but not both; the file is damaged");
     c.history.push_back(
         {stages[k], r[0], std::lround(r[1]), r[2], r[3], static_cast<int>(r[4]), r[5], r[6]});
   }

@@ -145,14 +145,22 @@ void SampleBuilder::restore() {
   s.initial_overlap_ratio = std::numeric_limits<double>::infinity();
   const SectionModel model(settings_.section, settings_.materials, s,
                            settings_.preparation_damping);
-  // The sleeper's mesh made as it was, bit for bit, before its pose is restored.
-  sleeper_lift_ = resume_->sleeper_lift;
-  std::optional<MeshBody> sleeper;
-  if (m.walls.sleeper) sleeper = model_.sleeper_at(sleeper_lift_);
-  sim_ = std::make_unique<Simulation>(
-      model.make(resume_->engine.particles, m.walls, m.materials, sleeper));
   try {
-    // The saved bodies make the model: checked before it is set up on them.
+    // The saved bodies make the model: checked before it is made of them. They are the stones
+    // drawn (again) from the seed, by id.
+    const Particles& saved = resume_->engine.particles;
+    for (const auto id : saved.id)
+      if (id < 0 || id >= static_cast<long>(sieve_size_.size()))
+        throw InputError("the saved state is damaged: a body has id " + std::to_string(id) +
+                         ", none of the " + std::to_string(sieve_size_.size()) +
+                         " stones drawn; valid: a checkpoint of this sample file");
+    // The sleeper's mesh made as it was, bit for bit, before its pose is restored.
+    sleeper_lift_ = resume_->sleeper_lift;
+    if (m.walls.sleeper && !std::isfinite(sleeper_lift_))
+      throw InputError("the saved state is damaged: the sleeper's lift is not finite");
+    std::optional<MeshBody> sleeper;
+    if (m.walls.sleeper) sleeper = model_.sleeper_at(sleeper_lift_);
+    sim_ = std::make_unique<Simulation>(model.make(saved, m.walls, m.materials, sleeper));
     const std::string defect = sim_->particles().defect(sim_->materials().size());
     if (!defect.empty())
       throw InputError("the saved state is damaged: " + defect + "; the file is damaged");

@@ -185,12 +185,14 @@ void SectionModel::require_seated_sleeper(SettleCriterion& c, double max_speed) 
     if (v.size() != 6)
       throw InputError("the saved seating interval has " + std::to_string(v.size()) +
                        " numbers; valid: 6 (a checkpoint written by this version)");
-    // Its start is NaN until an interval begins; nothing in it is infinite, its steps a count.
-    if (std::any_of(v.begin(), v.end(), [](double a) { return std::isinf(a); }) ||
-        !(v[1] >= 0 && v[1] <= 1e15 && v[1] == std::floor(v[1])))
-      throw InputError(
-          "the saved seating interval holds a value out of range; the file is "
-          "damaged");
+    // An interval not begun: no steps, no load, its start NaN; one begun: every number finite,
+    // its steps a count.
+    const bool begun = !std::isnan(v[5]);
+    const bool finite = std::all_of(v.begin(), v.end(), [](double a) { return std::isfinite(a); });
+    const bool ok =
+        begun ? finite && v[1] >= 0 && v[1] <= 1e15 && v[1] == std::floor(v[1])
+              : v[0] == 0 && v[1] == 0 && std::isnan(v[2]) && std::isnan(v[3]) && std::isnan(v[4]);
+    if (!ok) throw InputError("the saved seating interval holds a value out of range");
     *interval = {v[0], std::lround(v[1]), Vec3(v[2], v[3], v[4]), v[5]};
   };
 }
